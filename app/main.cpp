@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// fesph: projectiles perforating spaced multi-layer plates with adaptive FE-SPH coupling.
+// Sub-commands:
+//   run SCENE   mesh and run a scene, writing a ParaView series and histories
+#include "app/commands.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress and summary lines appear as they come
+  CLI::App app{
+      "fesph - explicit FE-SPH simulation of projectiles perforating spaced metal plates.\n"
+      "Scenes are TOML files in SI units; see scenes/ and README.md."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("fesph ") + FESPH_VERSION);
+
+  fesph::RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Mesh and run a scene to its end time");
+  run_cmd->add_option("scene", run.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  run_cmd->add_option("--out", run.out, "Output folder (default: the scene's [output].folder)");
+  run_cmd->add_option("--end-time", run.end_time, "End time in s (overrides the scene)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  run_cmd->add_option("--set", run.overrides,
+                      "Override a scene value, e.g. --set simulation.end_time=2e-5 "
+                      "--set bodies.0.velocity=[0,0,-200] (repeatable)");
+  run_cmd->add_option("--materials", run.materials,
+                      "Material library (default: materials.toml found above the scene)");
+  run_cmd->add_flag("--quiet", run.quiet, "No progress display");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  if (*run_cmd) return fesph::runCommand(run);
+  return 2;
+}

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// Error types. InputError points at the file, line and column of bad input (exit code 2);
+// RunError reports a failed run with where it stopped (exit code 1).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace fesph {
+
+/// Bad input: a scene, material library or mesh that cannot be used. Carries its location.
+class InputError : public std::runtime_error {
+ public:
+  InputError(std::string file, int line, int column, const std::string& what)
+      : std::runtime_error(format(file, line, column, what)),
+        file_(std::move(file)), line_(line), column_(column) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  int column() const { return column_; }
+
+ private:
+  static std::string format(const std::string& f, int line, int col, const std::string& w) {
+    std::string loc = f.empty() ? std::string("<input>") : f;
+    if (line > 0) loc += ":" + std::to_string(line);
+    if (line > 0 && col > 0) loc += ":" + std::to_string(col);
+    return loc + ": error: " + w;
+  }
+  std::string file_;
+  int line_ = 0, column_ = 0;
+};
+
+/// A run that cannot continue (non-finite state, inverted element, time step collapse).
+class RunError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace fesph

@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: MIT
+#include "core/contact/broad_phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace fesph {
+
+namespace {
+
+int threadCount() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+int threadId() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+/// Cell coordinates of the uniform grid, hashed into a power-of-two bucket table.
+struct Grid {
+  Vec3 origin = Vec3::Zero();
+  double inv_h = 0;
+  std::array<long, 3> max_cell = {0, 0, 0};  ///< cells beyond the faces' bounds hold nothing
+  std::uint64_t mask = 0;
+
+  long cell(double p, int d) const {
+    const long c = static_cast<long>(std::floor((p - origin[d]) * inv_h));
+    return std::clamp(c, 0L, max_cell[d]);
+  }
+  std::size_t bucket(long i, long j, long k) const {
+    const std::uint64_t h = static_cast<std::uint64_t>(i) * 73856093u ^
+                            static_cast<std::uint64_t>(j) * 19349663u ^
+                            static_cast<std::uint64_t>(k) * 83492791u;
+    return static_cast<std::size_t>(h & mask);
+  }
+  template <class F>
+  void forEachBucket(const Vec3& lo, const Vec3& hi, F&& f) const {
+    for (long k = cell(lo.z(), 2); k <= cell(hi.z(), 2); ++k)
+      for (long j = cell(lo.y(), 1); j <= cell(hi.y(), 1); ++j)
+        for (long i = cell(lo.x(), 0); i <= cell(hi.x(), 0); ++i) f(bucket(i, j, k));
+  }
+};
+
+bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+  return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
+}
+
+}  // namespace
+
+void findContactCandidates(Model& model, double dt, double depth_tolerance) {
+  const Nodes& nd = model.nodes;
+  Surfaces& s = model.surfaces;
+  ContactScratch& w = s.scratch;
+  ContactCandidates& out = s.candidates;
+  const std::size_t nfaces = s.exterior.size();
+
+  // Slaves in body order.
+  out.slaves.clear();
+  out.body_begin.assign(1, 0);
+  for (const std::vector<int>& list : s.slave_nodes) {
+    for (int a : list)
+      if (nd.m[a] > 0) out.slaves.push_back(a);
+    out.body_begin.push_back(out.slaves.size());
+  }
+  const std::size_t nslaves = out.slaves.size();
+  out.offset.assign(nslaves + 1, 0);
+  out.faces.clear();
+  if (nfaces == 0 || nslaves == 0) return;
+
+  // Swept, widened face boxes; the cell size is their mean largest extent.
+  w.face_lo.resize(nfaces);
+  w.face_hi.resize(nfaces);
+  w.face_tol.resize(nfaces);
+  double extent_sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : extent_sum) if (nfaces > 256)
+  for (std::size_t f = 0; f < nfaces; ++f) {
+    const auto& n = s.exterior[f].node;
+    double longest = 0;
+    Vec3 lo = nd.x[n[0]], hi = nd.x[n[0]];
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& x = nd.x[n[i]];
+      const Vec3 y = x + dt * nd.v[n[i]];
+      lo = lo.cwiseMin(x).cwiseMin(y);
+      hi = hi.cwiseMax(x).cwiseMax(y);
+      longest = std::max(longest, (nd.x[n[(i + 1) % 3]] - x).norm());
+    }
+    const double tol = depth_tolerance * longest;
+    w.face_tol[f] = tol;
+    w.face_lo[f] = lo.array() - tol;
+    w.face_hi[f] = hi.array() + tol;
+    extent_sum += (w.face_hi[f] - w.face_lo[f]).maxCoeff();
+  }
+  Vec3 all_lo = w.face_lo[0], all_hi = w.face_hi[0];
+  for (std::size_t f = 1; f < nfaces; ++f) {
+    all_lo = all_lo.cwiseMin(w.face_lo[f]);
+    all_hi = all_hi.cwiseMax(w.face_hi[f]);
+  }
+  Grid grid;
+  const double h = extent_sum / static_cast<double>(nfaces);
+  grid.origin = all_lo;
+  grid.inv_h = 1.0 / h;
+  for (int d = 0; d < 3; ++d)
+    grid.max_cell[d] = static_cast<long>(std::floor((all_hi[d] - all_lo[d]) * grid.inv_h));
+
+  // Faces into buckets (counting sort: ascending face ids in each bucket).
+  std::size_t inserts = 0;
+  for (std::size_t f = 0; f < nfaces; ++f)
+    grid.forEachBucket(w.face_lo[f], w.face_hi[f], [&](std::size_t) { ++inserts; });
+  std::size_t nbuckets = 1;
+  while (nbuckets < 2 * inserts) nbuckets *= 2;
+  grid.mask = nbuckets - 1;
+  w.bucket_offset.assign(nbuckets + 1, 0);
+  for (std::size_t f = 0; f < nfaces; ++f)
+    grid.forEachBucket(w.face_lo[f], w.face_hi[f],
+                       [&](std::size_t b) { ++w.bucket_offset[b + 1]; });
+  for (std::size_t b = 0; b < nbuckets; ++b) w.bucket_offset[b + 1] += w.bucket_offset[b];
+  w.bucket_faces.resize(inserts);
+  w.bucket_fill.assign(w.bucket_offset.begin(), w.bucket_offset.end() - 1);
+  for (std::size_t f = 0; f < nfaces; ++f)
+    grid.forEachBucket(w.face_lo[f], w.face_hi[f], [&](std::size_t b) {
+      w.bucket_faces[w.bucket_fill[b]++] = static_cast<int>(f);
+    });
+
+  // Query every slave in parallel into per-thread lists, then copy them out in slave order.
+  const int nthreads = threadCount();
+  w.thread_faces.resize(nthreads);
+  for (std::vector<int>& list : w.thread_faces) list.clear();
+  w.slave_thread.resize(nslaves);
+  w.slave_start.resize(nslaves);
+#pragma omp parallel if (nslaves > 256)
+  {
+    std::vector<int>& list = w.thread_faces[threadId()];
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < nslaves; ++i) {
+      const int a = out.slaves[i];
+      const Vec3 y = nd.x[a] + dt * nd.v[a];
+      const Vec3 lo = nd.x[a].cwiseMin(y), hi = nd.x[a].cwiseMax(y);
+      const std::size_t start = list.size();
+      if (overlaps(lo, hi, all_lo, all_hi)) {
+        grid.forEachBucket(lo, hi, [&](std::size_t b) {
+          for (std::size_t q = w.bucket_offset[b]; q < w.bucket_offset[b + 1]; ++q) {
+            const int f = w.bucket_faces[q];
+            if (s.exterior[f].body != nd.body[a] && overlaps(lo, hi, w.face_lo[f], w.face_hi[f]))
+              list.push_back(f);
+          }
+        });
+        std::sort(list.begin() + start, list.end());
+        list.erase(std::unique(list.begin() + start, list.end()), list.end());
+      }
+      w.slave_thread[i] = threadId();
+      w.slave_start[i] = start;
+      out.offset[i + 1] = list.size() - start;
+    }
+  }
+  for (std::size_t i = 0; i < nslaves; ++i) out.offset[i + 1] += out.offset[i];
+  out.faces.resize(out.offset[nslaves]);
+#pragma omp parallel for schedule(static) if (nslaves > 256)
+  for (std::size_t i = 0; i < nslaves; ++i) {
+    const std::vector<int>& list = w.thread_faces[w.slave_thread[i]];
+    std::copy(list.begin() + w.slave_start[i],
+              list.begin() + w.slave_start[i] + (out.offset[i + 1] - out.offset[i]),
+              out.faces.begin() + out.offset[i]);
+  }
+}
+
+}  // namespace fesph

@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+#include "core/fem/element_forces.hpp"
+
+#include "core/common/error.hpp"
+#include "core/fem/tet4.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace fesph {
+
+namespace {
+
+std::array<Vec3, 4> gatherNodes(const std::vector<Vec3>& field, const std::array<int, 4>& c) {
+  return {field[c[0]], field[c[1]], field[c[2]], field[c[3]]};
+}
+
+[[noreturn]] void invertedElement(const Model& model, std::size_t e, double volume) {
+  const Body& b = model.bodies[model.elems.body[e]];
+  throw RunError("element " + std::to_string(e) + " of body '" + b.name +
+                 "' inverted (volume " + std::to_string(volume) + " m^3) at t = " +
+                 std::to_string(model.time) + " s");
+}
+
+// Pass A: strain rate at the midpoint configuration of the last interval, deviatoric update,
+// new volume. Returns the plastic work of the element over the interval (J).
+double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
+  Elements& el = model.elems;
+  const Nodes& nd = model.nodes;
+  const Material& mat = model.materials[el.material[e]];
+  const auto& c = el.conn[e];
+  const std::array<Vec3, 4> x = gatherNodes(nd.x, c);
+  const std::array<Vec3, 4> v = gatherNodes(nd.v, c);
+
+  // x^{n-1/2} = x^n - dt/2 v^{n-1/2}: the configuration at which the rate is centred.
+  std::array<Vec3, 4> xm;
+  for (int a = 0; a < 4; ++a) xm[a] = x[a] - 0.5 * dt * v[a];
+  const TetGeometry gm = tetGeometry(xm[0], xm[1], xm[2], xm[3]);
+  const TetGeometry gn = tetGeometry(x[0], x[1], x[2], x[3]);
+  if (!(gn.volume > 0) || !(gm.volume > 0)) invertedElement(model, e, gn.volume);
+
+  const Mat3 L = velocityGradient(v, gm.grad);
+  const Sym D = Sym::fromMatrix(L);
+  const Mat3 W = 0.5 * (L - L.transpose());
+  PointState& st = el.state[e];
+  const Sym s_old = st.s;
+  const double wp = updateDeviatoricStress(mat, D, W, dt, el.rho[e], st);
+  // trapezoidal deviatoric power over the interval
+  const double dev_work = 0.5 * (s_old + st.s).dot(D) * gm.volume * dt;
+
+  const double mass = mat.rho0 * el.V0[e];
+  st.e += dev_work / mass;
+  el.dV[e] = gn.volume - el.V[e];
+  el.V[e] = gn.volume;
+  el.rho[e] = mass / gn.volume;
+
+  // bulk viscosity from the volumetric rate (compression only)
+  const double trD = D.trace();
+  const double c_wave = waveSpeed(mat, el.rho[e]);
+  const double len = smallestAltitude(x[0], x[1], x[2], x[3], gn.volume);
+  const SolverControls& ctl = model.controls;
+  el.q[e] = trD < 0 ? el.rho[e] * len * (ctl.bulk_quadratic * len * trD * trD -
+                                          ctl.bulk_linear * c_wave * trD)
+                    : 0.0;
+  // stable step with the viscosity correction: l / (Q + sqrt(Q^2 + c^2))
+  const double Q = trD < 0 ? ctl.bulk_linear * c_wave + ctl.bulk_quadratic * len * (-trD) : 0.0;
+  el.dt[e] = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
+  return wp * gm.volume;
+}
+
+}  // namespace
+
+void computeElementForces(Model& model, double dt_last) {
+  Elements& el = model.elems;
+  Nodes& nd = model.nodes;
+  const std::size_t ne = el.size();
+
+  double plastic_sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : plastic_sum)
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (el.status[e] != ElemStatus::Live) continue;
+    plastic_sum += updateKinematicsAndDeviator(model, e, dt_last);
+  }
+
+  // Pass B: nodal volumes over live elements (average nodal pressure, Bonet & Burton 1998).
+  const bool anp = model.controls.average_nodal_pressure;
+  if (anp) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t a = 0; a < nd.size(); ++a) {
+      double vol = 0, vol0 = 0;
+      for (std::size_t k = model.node_corner_offset[a]; k < model.node_corner_offset[a + 1]; ++k) {
+        const std::size_t e = model.node_corners[k] / 4;
+        if (el.status[e] != ElemStatus::Live) continue;
+        vol += el.V[e];
+        vol0 += el.V0[e];
+      }
+      model.nodal_volume[a] = vol;
+      model.nodal_volume0[a] = vol0;
+    }
+  }
+
+  // Pass C: volumetric response, energy, corner forces.
+  double internal_sum = 0, q_work_sum = 0;
+#pragma omp parallel for schedule(static) reduction(+ : internal_sum, q_work_sum)
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (el.status[e] != ElemStatus::Live) continue;
+    const Material& mat = model.materials[el.material[e]];
+    const auto& c = el.conn[e];
+    PointState& st = el.state[e];
+    const double mass = mat.rho0 * el.V0[e];
+
+    // Volumetric deformation: the element's own, or the mean of its nodes' (ANP).
+    double rho_vol = el.rho[e];
+    if (anp) {
+      double J = 0;
+      for (int a = 0; a < 4; ++a) J += model.nodal_volume[c[a]] / model.nodal_volume0[c[a]];
+      rho_vol = mat.rho0 / (0.25 * J);
+    }
+    // Energy over the interval, trapezoidal in pressure: one predictor, one corrector,
+    // since the Mie-Grueneisen pressure depends on the energy it updates.
+    const double dV = el.dV[e];
+    const double p_old = st.p, q = el.q[e];
+    double p_new = eosPressure(mat, rho_vol, st.e - (p_old + q) * dV / mass, st.damage);
+    const double vol_work = -(0.5 * (p_old + p_new) + q) * dV;
+    st.e += vol_work / mass;
+    p_new = eosPressure(mat, rho_vol, st.e, st.damage);
+    st.p = p_new;
+    q_work_sum += -q * dV;
+
+    const std::array<Vec3, 4> x = gatherNodes(nd.x, c);
+    const TetGeometry g = tetGeometry(x[0], x[1], x[2], x[3]);
+    Mat3 sigma = st.s.matrix();
+    sigma.diagonal().array() -= (st.p + q);
+    for (int a = 0; a < 4; ++a) model.corner_force[e][a] = -g.volume * (sigma * g.grad[a]);
+    internal_sum += mass * st.e;
+  }
+  // Gather the corner forces per node in a fixed order: no atomics, same result for any
+  // thread count (LULESH's scheme).
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < nd.size(); ++a) {
+    Vec3 f = Vec3::Zero();
+    for (std::size_t k = model.node_corner_offset[a]; k < model.node_corner_offset[a + 1]; ++k) {
+      const std::uint32_t ec = model.node_corners[k];
+      if (el.status[ec / 4] != ElemStatus::Live) continue;
+      f += model.corner_force[ec / 4][ec % 4];
+    }
+    nd.f[a] = f;
+  }
+
+  model.energy.plastic_work += plastic_sum;
+  model.energy.bulk_viscosity += q_work_sum;
+  model.energy.internal = internal_sum;
+}
+
+}  // namespace fesph

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#include "core/io/history_csv.hpp"
+
+#include "core/common/error.hpp"
+#include "core/state/model_build.hpp"
+
+#include <cstdio>
+
+namespace fesph {
+
+HistoryCsv::HistoryCsv(const std::string& path, const Model& model)
+    : path_(path), out_(path, std::ios::trunc) {
+  if (!out_) throw RunError("cannot write history file " + path);
+  out_ << "time,step,dt,kinetic,internal,plastic_work,bulk_viscosity,contact,eroded,conversion,"
+          "total,balance_error,momentum_x,momentum_y,momentum_z";
+  for (const Body& b : model.bodies)
+    out_ << ',' << b.name << "_vx," << b.name << "_vy," << b.name << "_vz";
+  out_ << '\n';
+  out_.flush();
+}
+
+void HistoryCsv::record(const Model& model) {
+  const EnergyBudget& en = model.energy;
+  char buf[64];
+  auto put = [&](double x) {
+    std::snprintf(buf, sizeof buf, ",%.10g", x);
+    out_ << buf;
+  };
+  std::snprintf(buf, sizeof buf, "%.10g", en.time);
+  out_ << buf << ',' << model.step;
+  for (double x : {model.dt, en.kinetic, en.internal, en.plastic_work, en.bulk_viscosity,
+                   en.contact, en.eroded, en.conversion, en.total(), en.balanceError(),
+                   en.momentum.x(), en.momentum.y(), en.momentum.z()})
+    put(x);
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const Vec3 v = bodyMeanVelocity(model, static_cast<int>(b));
+    put(v.x());
+    put(v.y());
+    put(v.z());
+  }
+  out_ << '\n';
+  out_.flush();
+}
+
+}  // namespace fesph

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+// CSV time history of a run: energy budget by term, momentum, mean velocity of every body.
+// Each row is flushed, so a run that stops keeps a valid file up to its last step.
+#pragma once
+
+#include "core/state/model.hpp"
+
+#include <fstream>
+#include <string>
+
+namespace fesph {
+
+class HistoryCsv {
+ public:
+  /// Create (or truncate) `path` and write the header for the model's bodies.
+  HistoryCsv(const std::string& path, const Model& model);
+  /// Append the budget at model.energy.time.
+  void record(const Model& model);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+};
+
+}  // namespace fesph

@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+// Johnson-Cook flow stress and the deviatoric stress update of one material point: Jaumann
+// rotation, elastic trial, radial return, adiabatic heating and damage accumulation.
+#include "core/material/material.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fesph {
+
+double homologousTemperature(const Material& mat, double T) {
+  if (mat.T_melt <= mat.T_room) return 0.0;
+  return std::clamp((T - mat.T_room) / (mat.T_melt - mat.T_room), 0.0, 1.0);
+}
+
+double logRateRatio(const Material& mat, double eps_dot) {
+  return std::log(std::max(1.0, eps_dot / mat.eps_dot0));
+}
+
+/// Johnson & Cook 1983 (7th Int. Symp. Ballistics, The Hague), eq. 1:
+///   sigma_y = (A + B eps_p^n)(1 + C ln eps_dot*)(1 - T*^m)   [Pa]
+/// eps_p plastic strain (-), eps_dot equivalent strain rate (1/s), T temperature (K);
+/// eps_dot* = max(1, eps_dot/eps_dot0), T* = homologousTemperature in [0, 1].
+/// The elastic strength model never yields: its flow stress is +infinity.
+double flowStress(const Material& mat, double eps_p, double eps_dot, double T) {
+  if (mat.strength == StrengthModel::Elastic) return std::numeric_limits<double>::infinity();
+  const double ep = std::max(eps_p, 0.0);
+  const double hardening = mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
+  const double rate = 1.0 + mat.C * logRateRatio(mat, eps_dot);
+  const double Ts = homologousTemperature(mat, T);
+  const double thermal = Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
+  return hardening * rate * thermal;
+}
+
+namespace {
+
+/// d sigma_y / d eps_p (Pa); +infinity at eps_p = 0 when n < 1.
+double hardeningSlope(const Material& mat, double eps_p, double eps_dot, double T) {
+  if (mat.B == 0.0) return 0.0;
+  const double ep = std::max(eps_p, 0.0);
+  double slope;
+  if (ep > 0.0)
+    slope = mat.B * mat.n * std::pow(ep, mat.n - 1.0);
+  else
+    slope = mat.n < 1.0 ? std::numeric_limits<double>::infinity()
+                        : (mat.n == 1.0 ? mat.B : 0.0);
+  const double Ts = homologousTemperature(mat, T);
+  const double thermal = Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
+  return slope * (1.0 + mat.C * logRateRatio(mat, eps_dot)) * thermal;
+}
+
+/// Plastic multiplier dlam of the radial return: the root of
+///   g(dlam) = sigma_eq_tr - 3 G dlam - sigma_y(eps_p + dlam) = 0.
+/// g is strictly decreasing, g(0) > 0 and g(hi) <= 0 for hi = (sigma_eq_tr - sigma_y(eps_p))/(3G)
+/// (hardening only shrinks the step), so Newton is run inside the bracket [0, hi] and falls
+/// back to bisection when its step leaves the bracket, e.g. at the infinite slope of n < 1
+/// hardening at eps_p = 0.
+double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, double eps_dot,
+                    double T) {
+  const double G3 = 3.0 * mat.G;
+  double lo = 0.0;
+  double hi = (sigma_eq_tr - flowStress(mat, eps_p, eps_dot, T)) / G3;
+  double x = hi;
+  for (int it = 0; it < 200; ++it) {
+    const double sy = flowStress(mat, eps_p + x, eps_dot, T);
+    const double g = sigma_eq_tr - G3 * x - sy;
+    // 1e-10 sigma_y is 100x inside the 1e-8 promised; the second term is round-off in g.
+    if (std::abs(g) <= 1e-10 * sy + 1e-14 * sigma_eq_tr) return x;
+    (g > 0.0 ? lo : hi) = x;
+    const double xn = x + g / (G3 + hardeningSlope(mat, eps_p + x, eps_dot, T));
+    x = (xn > lo && xn < hi) ? xn : 0.5 * (lo + hi);
+    if (hi - lo <= 4e-16 * hi) break;  // bracket at round-off: x is the root
+  }
+  return x;
+}
+
+}  // namespace
+
+/// Hypoelastic-plastic update (Wilkins 1964 radial return; Simo & Hughes 1998, Box 3.2):
+///   Jaumann:  s += dt (W s - s W)                         (objective rotation, first order)
+///   trial:    s_tr = s + 2 G dt dev(D)
+///   return:   s = s_tr (1 - 3 G dlam / sigma_eq_tr), sigma_eq = sigma_y(eps_p + dlam)
+/// The rate in the C term is the equivalent deviatoric total strain rate
+/// sqrt(2/3 dev(D):dev(D)), taken explicitly at the start of the step so the return has no
+/// rate-dependent root (as LS-DYNA MAT_015 with its default VP = 0; from its manual, not
+/// re-read), and T is the temperature at the start of the step. Heating dT = chi sigma_y dlam / (rho cp) (K);
+/// damage dD = dlam / eps_f(-p/sigma_eq, rate, T) (Johnson & Cook 1985), capped at 1.
+/// Returns the plastic work sigma_y dlam (J/m^3).
+double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
+                              double rho, PointState& st) {
+  st.eps_rate = 0.0;
+  if (st.damage >= 1.0) {  // a failed point carries no deviatoric stress
+    st.s = Sym{};
+    return 0.0;
+  }
+  const Mat3 S = st.s.matrix();
+  const Sym dev_D = D.deviator();
+  const Sym s_tr =
+      st.s + Sym::fromMatrix(W * S - S * W) * dt + dev_D * (2.0 * mat.G * dt);
+  st.s = s_tr;
+
+  const double rate = std::sqrt(2.0 / 3.0 * dev_D.dot(dev_D));
+  const double sigma_eq_tr = vonMises(s_tr);
+  // Inside the yield surface: elastic. Always so for the Elastic model (infinite flow stress).
+  if (sigma_eq_tr <= flowStress(mat, st.eps_p, rate, st.T)) return 0.0;
+  const double dlam = radialReturn(mat, sigma_eq_tr, st.eps_p, rate, st.T);
+  const double sigma_y = flowStress(mat, st.eps_p + dlam, rate, st.T);
+  st.s = s_tr * (1.0 - 3.0 * mat.G * dlam / sigma_eq_tr);
+  const double T0 = st.T;
+  st.eps_p += dlam;
+  if (dt > 0.0) st.eps_rate = dlam / dt;
+
+  const double work = sigma_y * dlam;
+  if (mat.cp > 0.0) st.T += mat.taylor_quinney * work / (rho * mat.cp);
+
+  if (mat.damage) {
+    // sigma_eq = sigma_y after the return; a melted point (sigma_y = 0) counts as sigma* = 0.
+    const double triaxiality = sigma_y > 0.0 ? -st.p / sigma_y : 0.0;
+    st.damage = std::min(1.0, st.damage + dlam / failureStrain(mat, triaxiality, rate, T0));
+    if (st.damage >= 1.0) st.s = Sym{};
+  }
+  return work;
+}
+
+}  // namespace fesph

@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: MIT
+// Reader for Gmsh ASCII .msh files, formats 2.2 and 4.1: keeps the linear tets (type 4) and
+// the nodes they use. Every problem is reported as an InputError at its 1-based line.
+#include "core/common/error.hpp"
+#include "core/mesh/mesh.hpp"
+#include "core/mesh/tet_assembly.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <string_view>
+#include <unordered_map>
+
+namespace fesph {
+namespace {
+
+constexpr long long kLinearTet = 4;  // Gmsh element type
+
+/// The file as a sequence of non-blank lines split into tokens, with the current line number.
+class MshLines {
+ public:
+  explicit MshLines(const std::string& path) : path_(path), in_(path) {
+    if (!in_) throw InputError(path, 0, 0, "cannot open");
+  }
+
+  /// Moves to the next non-blank line; false at the end of the file.
+  bool advance() {
+    while (std::getline(in_, text_)) {
+      ++line_;
+      split();
+      if (!tokens_.empty()) return true;
+    }
+    return false;
+  }
+  /// Moves to the next non-blank line, which must exist and hold at least `min_tokens`.
+  void next(std::size_t min_tokens, const std::string& expected) {
+    if (!advance()) fail("premature end of file: expected " + expected);
+    if (tokens_.size() < min_tokens) fail("expected " + expected);
+  }
+  /// Moves to the next line, which must start with `keyword`.
+  void expectKeyword(const std::string& keyword) {
+    next(1, keyword);
+    if (tokens_[0] != keyword) fail("expected " + keyword + ", found " + quoted(0));
+  }
+
+  std::size_t size() const { return tokens_.size(); }
+  std::string token(std::size_t i) const { return std::string(tokens_[i]); }
+  /// Token i quoted for a message, cut short: a binary file can hold very long "tokens".
+  std::string quoted(std::size_t i) const {
+    const std::string_view t = tokens_[i];
+    return "'" + std::string(t.substr(0, 40)) + (t.size() > 40 ? "...'" : "'");
+  }
+  int line() const { return line_; }
+
+  long long integer(std::size_t i, const char* what) const {
+    const std::string_view t = tokens_[i];
+    long long v = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size())
+      fail(std::string("expected ") + what + " (an integer), found " + quoted(i));
+    return v;
+  }
+  long long count(std::size_t i, const char* what) const {
+    const long long n = integer(i, what);
+    if (n < 0) fail(std::string("expected ") + what + " >= 0, found " + quoted(i));
+    return n;
+  }
+  double real(std::size_t i, const char* what) const {
+    std::string_view t = tokens_[i];
+    if (!t.empty() && t[0] == '+') t.remove_prefix(1);  // from_chars rejects a leading '+'
+    double v = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v))
+      fail(std::string("expected ") + what + " (a finite number), found " + quoted(i));
+    return v;
+  }
+
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(path_, line_, 0, what); }
+
+ private:
+  void split() {
+    tokens_.clear();
+    const std::string_view s(text_);
+    std::size_t i = 0;
+    while (true) {
+      i = s.find_first_not_of(" \t\r", i);
+      if (i == std::string_view::npos) return;
+      const std::size_t j = std::min(s.find_first_of(" \t\r", i), s.size());
+      tokens_.push_back(s.substr(i, j - i));
+      i = j;
+    }
+  }
+
+  std::string path_;
+  std::ifstream in_;
+  std::string text_;
+  std::vector<std::string_view> tokens_;  // views into text_
+  int line_ = 0;
+};
+
+struct RawTet {
+  long long tag;
+  std::array<long long, 4> nodes;
+  int line;
+};
+
+/// What the sections hold, before node tags are resolved.
+struct RawMesh {
+  std::vector<Vec3> nodes;
+  std::unordered_map<long long, int> node_index;  // node tag -> position in `nodes`
+  std::vector<RawTet> tets;
+  int elements_line = 0;  // line of the $Elements header, for "no tetrahedra"
+};
+
+enum class MshVersion { V2, V41 };
+
+MshVersion readHeader(MshLines& in) {
+  in.expectKeyword("$MeshFormat");
+  in.next(3, "version, file type and data size");
+  const double version = in.real(0, "the format version");
+  const bool binary = in.integer(1, "the file type") != 0;
+  if (!(version >= 2.0 && version < 3.0) && version != 4.1)
+    in.fail("unsupported .msh version " + in.quoted(0) + ": expected 2.2 or 4.1");
+  if (binary) in.fail("binary .msh not supported: save as ASCII");
+  in.expectKeyword("$EndMeshFormat");
+  return version < 3.0 ? MshVersion::V2 : MshVersion::V41;
+}
+
+void addNode(MshLines& in, RawMesh& mesh, long long tag, const Vec3& x) {
+  if (!mesh.node_index.emplace(tag, static_cast<int>(mesh.nodes.size())).second)
+    in.fail("node " + std::to_string(tag) + " defined twice");
+  mesh.nodes.push_back(x);
+}
+
+Vec3 readPoint(const MshLines& in, std::size_t first, double scale) {
+  return scale * Vec3(in.real(first, "x"), in.real(first + 1, "y"), in.real(first + 2, "z"));
+}
+
+/// 2.2: a count, then "tag x y z" per line.
+void readNodesV2(MshLines& in, RawMesh& mesh, double scale) {
+  in.next(1, "the number of nodes");
+  const long long n = in.count(0, "the number of nodes");
+  for (long long i = 0; i < n; ++i) {
+    in.next(4, "a node: tag x y z");
+    addNode(in, mesh, in.integer(0, "a node tag"), readPoint(in, 1, scale));
+  }
+}
+
+/// 4.1: blocks of "dim entity parametric count", then the block's tags, then its coordinates
+/// (x y z, followed by `dim` parametric coordinates when `parametric` is 1).
+void readNodesV41(MshLines& in, RawMesh& mesh, double scale) {
+  in.next(4, "numEntityBlocks numNodes minNodeTag maxNodeTag");
+  const long long blocks = in.count(0, "the number of node blocks");
+  for (long long b = 0; b < blocks; ++b) {
+    in.next(4, "a node block header: entityDim entityTag parametric numNodesInBlock");
+    const long long dim = in.integer(0, "the entity dimension");
+    if (dim < 0 || dim > 3) in.fail("expected an entity dimension 0 to 3, found " + in.quoted(0));
+    const std::size_t min_tokens = 3 + (in.integer(2, "the parametric flag") != 0 ? dim : 0);
+    const long long n = in.count(3, "the number of nodes in the block");
+    std::vector<long long> tags;  // grown line by line: a bad count fails at the end of file
+    for (long long i = 0; i < n; ++i) {
+      in.next(1, "a node tag");
+      tags.push_back(in.integer(0, "a node tag"));
+    }
+    for (long long tag : tags) {
+      in.next(min_tokens, "node coordinates");
+      addNode(in, mesh, tag, readPoint(in, 0, scale));
+    }
+  }
+}
+
+/// Keeps a tet whose node tags start at token `first` of the current line.
+void addTet(MshLines& in, RawMesh& mesh, long long tag, std::size_t first) {
+  if (in.size() != first + 4)
+    in.fail("expected 4 node tags for tetrahedron " + std::to_string(tag));
+  RawTet t{tag, {}, in.line()};
+  for (int k = 0; k < 4; ++k) t.nodes[k] = in.integer(first + k, "a node tag");
+  mesh.tets.push_back(t);
+}
+
+/// 2.2: a count, then "tag type numTags tags... nodes..." per line.
+void readElementsV2(MshLines& in, RawMesh& mesh) {
+  in.next(1, "the number of elements");
+  const long long n = in.count(0, "the number of elements");
+  for (long long i = 0; i < n; ++i) {
+    in.next(3, "an element: tag type numTags tags... nodes...");
+    const long long tag = in.integer(0, "an element tag");
+    const long long num_tags = in.count(2, "the number of element tags");
+    if (in.integer(1, "an element type") == kLinearTet) addTet(in, mesh, tag, 3 + num_tags);
+  }
+}
+
+/// 4.1: blocks of "dim entity type count", then "tag nodes..." per line.
+void readElementsV41(MshLines& in, RawMesh& mesh) {
+  in.next(4, "numEntityBlocks numElements minElementTag maxElementTag");
+  const long long blocks = in.count(0, "the number of element blocks");
+  for (long long b = 0; b < blocks; ++b) {
+    in.next(4, "an element block header: entityDim entityTag elementType numElementsInBlock");
+    const bool tets = in.integer(2, "an element type") == kLinearTet;
+    const long long n = in.count(3, "the number of elements in the block");
+    for (long long i = 0; i < n; ++i) {
+      in.next(2, "an element: tag nodes...");
+      const long long tag = in.integer(0, "an element tag");
+      if (tets) addTet(in, mesh, tag, 1);
+    }
+  }
+}
+
+/// Skips a section the tets do not need ($PhysicalNames, $Entities, $Periodic, $NodeData...).
+void skipSection(MshLines& in, const std::string& end) {
+  do {
+    if (!in.advance()) in.fail("premature end of file: expected " + end);
+  } while (in.token(0) != end);
+}
+
+RawMesh readSections(MshLines& in, double scale) {
+  const MshVersion version = readHeader(in);
+  RawMesh mesh;
+  while (in.advance()) {
+    const std::string section = in.token(0);
+    if (section[0] != '$')
+      in.fail("expected a section header such as $Nodes, found " + in.quoted(0));
+    const std::string end = "$End" + section.substr(1);
+    if (section == "$Nodes") {
+      version == MshVersion::V2 ? readNodesV2(in, mesh, scale) : readNodesV41(in, mesh, scale);
+      in.expectKeyword(end);
+    } else if (section == "$Elements") {
+      mesh.elements_line = in.line();
+      version == MshVersion::V2 ? readElementsV2(in, mesh) : readElementsV41(in, mesh);
+      in.expectKeyword(end);
+    } else {
+      skipSection(in, end);
+    }
+  }
+  return mesh;
+}
+
+/// Resolves node tags to positions and rejects dangling and zero-volume tets at their line.
+std::vector<std::array<int, 4>> resolveTets(const std::string& path, const RawMesh& raw) {
+  std::vector<std::array<int, 4>> tets(raw.tets.size());
+  for (std::size_t e = 0; e < tets.size(); ++e) {
+    const RawTet& t = raw.tets[e];
+    for (int k = 0; k < 4; ++k) {
+      const auto it = raw.node_index.find(t.nodes[k]);
+      if (it == raw.node_index.end())
+        throw InputError(path, t.line, 0, "element " + std::to_string(t.tag) +
+                                              " references undefined node " +
+                                              std::to_string(t.nodes[k]));
+      tets[e][k] = it->second;
+    }
+    const auto& x = raw.nodes;
+    if (mesh_detail::isFlatTet(x[tets[e][0]], x[tets[e][1]], x[tets[e][2]], x[tets[e][3]]))
+      throw InputError(path, t.line, 0,
+                       "element " + std::to_string(t.tag) + " is a zero-volume tetrahedron");
+  }
+  return tets;
+}
+
+}  // namespace
+
+TetMesh readMsh(const std::string& path, double scale) {
+  if (!(scale > 0 && std::isfinite(scale)))
+    throw InputError(path, 0, 0, "mesh scale must be a positive number");
+  MshLines in(path);
+  const RawMesh raw = readSections(in, scale);
+  if (raw.tets.empty())
+    throw InputError(path, raw.elements_line > 0 ? raw.elements_line : in.line(), 0,
+                     "no linear tetrahedra (element type 4) in the mesh");
+  return mesh_detail::assembleTetMesh(raw.nodes, resolveTets(path, raw));
+}
+
+}  // namespace fesph

@@ -1,0 +1,394 @@
+// SPDX-License-Identifier: MIT
+#include "core/scene/scene.hpp"
+
+#include "core/common/toml_check.hpp"
+#include "core/material/library.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <set>
+#include <sstream>
+
+namespace fesph {
+
+namespace fs = std::filesystem;
+using namespace tomlcheck;
+
+namespace {
+
+// ---- --set overrides ------------------------------------------------------------------
+
+void applyOverride(toml::table& root, const std::string& assignment) {
+  const std::string src = "--set " + assignment;
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(src, 0, 0, "expected key=value, e.g. simulation.end_time=2e-5");
+  const std::string path = assignment.substr(0, eq);
+  const toml::table value_doc = parseText("v = " + assignment.substr(eq + 1), src);
+
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+
+  toml::node* node = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    if (toml::table* t = node->as_table()) {
+      node = t->get(p);
+      if (!node) node = &t->insert_or_assign(p, toml::table{}).first->second;
+    } else if (toml::array* a = node->as_array()) {
+      char* end = nullptr;
+      const long idx = std::strtol(p.c_str(), &end, 10);
+      if (*end || idx < 0 || static_cast<std::size_t>(idx) >= a->size())
+        throw InputError(src, 0, 0,
+                         "'" + p + "' is not an index of the array (size " +
+                             std::to_string(a->size()) + ") on the way to " + path);
+      node = a->get(static_cast<std::size_t>(idx));
+    } else {
+      throw InputError(src, 0, 0, "'" + p + "' in " + path + " is not a table or an array");
+    }
+  }
+  toml::table* target = node->as_table();
+  if (!target) throw InputError(src, 0, 0, "the parent of '" + parts.back() + "' is not a table");
+  target->insert_or_assign(parts.back(), *value_doc.get("v"));
+}
+
+// ---- pieces of the scene ----------------------------------------------------------------
+
+std::string findMaterialLibrary(const fs::path& scene_dir) {
+  for (fs::path d = fs::absolute(scene_dir); !d.empty(); d = d.parent_path()) {
+    const fs::path candidate = d / "materials.toml";
+    if (fs::exists(candidate)) return candidate.string();
+    const fs::path in_scenes = d / "scenes" / "materials.toml";
+    if (fs::exists(in_scenes)) return in_scenes.string();
+    if (d == d.parent_path()) break;
+  }
+  return std::string(FESPH_SOURCE_DIR) + "/scenes/materials.toml";
+}
+
+void readSimulation(const toml::table& t, const std::string& file, Scene& sc) {
+  allowKeys(t, file,
+            {"end_time", "courant", "bulk_linear", "bulk_quadratic", "average_nodal_pressure",
+             "symmetry", "dt_min", "dt_growth"},
+            "[simulation]");
+  SolverControls& c = sc.controls;
+  c.end_time = positive(t, "end_time", file);
+  c.courant = positive(t, "courant", file, 0.5);
+  if (c.courant > 1.0) fail(file, where(t, "courant"), "'courant' must be in (0, 1]");
+  c.bulk_linear = positive(t, "bulk_linear", file, 0.06, true);
+  c.bulk_quadratic = positive(t, "bulk_quadratic", file, 1.5, true);
+  c.average_nodal_pressure = boolean(t, "average_nodal_pressure", file, true);
+  c.dt_min = positive(t, "dt_min", file, 1e-13);
+  c.dt_growth = positive(t, "dt_growth", file, 1.1);
+  if (c.dt_growth < 1.0) fail(file, where(t, "dt_growth"), "'dt_growth' must be >= 1");
+  sc.half = choice(t, "symmetry", file, {"none", "half"}, std::string("none")) == "half";
+}
+
+void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
+  OutputSpec& o = sc.output;
+  o.folder = "runs/" + fs::path(file).stem().string();
+  o.interval = sc.controls.end_time / 20;
+  if (!t) return;
+  allowKeys(*t, file, {"folder", "interval", "fields", "history_every"}, "[output]");
+  o.folder = string(*t, "folder", file, o.folder);
+  o.interval = positive(*t, "interval", file, o.interval);
+  o.fields = strings(*t, "fields", file);
+  o.history_every = integer(*t, "history_every", file, 10);
+  if (o.history_every < 1) fail(file, where(*t, "history_every"), "'history_every' must be >= 1");
+}
+
+PlateSpec readPlate(const toml::table& t, const std::string& file, bool half) {
+  allowKeys(t, file,
+            {"type", "size_x", "size_y", "thickness", "mesh_size", "coarse_size", "refine_center",
+             "refine_radius", "refine_stretch_x", "grade_distance"},
+            "plate shape");
+  PlateSpec p;
+  p.size_x = positive(t, "size_x", file);
+  p.size_y = positive(t, "size_y", file);
+  p.thickness = positive(t, "thickness", file);
+  p.fine_size = positive(t, "mesh_size", file);
+  p.coarse_size = positive(t, "coarse_size", file, p.fine_size);
+  if (p.coarse_size < p.fine_size)
+    fail(file, where(t, "coarse_size"), "'coarse_size' must be >= 'mesh_size'");
+  if (const toml::node* n = t.get("refine_center")) {
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 2 || !a->get(0)->is_number() || !a->get(1)->is_number())
+      fail(file, n->source(), "'refine_center' must be [x, y] in the plate's local frame");
+    p.refine_x = a->get(0)->value<double>().value();
+    p.refine_y = a->get(1)->value<double>().value();
+  }
+  p.refine_radius = positive(t, "refine_radius", file, 0.0, true);
+  p.refine_stretch_x = positive(t, "refine_stretch_x", file, 1.0);
+  p.grade_distance = positive(t, "grade_distance", file, 0.5 * std::max(p.size_x, p.size_y), true);
+  p.half = half;
+  return p;
+}
+
+ProjectileSpec readProjectile(const toml::table& t, const std::string& file, bool half) {
+  allowKeys(t, file,
+            {"type", "diameter", "length", "nose", "crh", "cavity_diameter", "cavity_start",
+             "cavity_end", "mesh_size"},
+            "projectile shape");
+  ProjectileSpec p;
+  p.diameter = positive(t, "diameter", file);
+  p.length = positive(t, "length", file);
+  const std::string nose =
+      choice(t, "nose", file, {"flat", "hemispherical", "ogive"}, std::string("flat"));
+  p.nose = nose == "flat" ? NoseShape::Flat
+                          : nose == "ogive" ? NoseShape::Ogive : NoseShape::Hemispherical;
+  p.crh = positive(t, "crh", file, 2.0);
+  if (p.nose == NoseShape::Ogive && p.crh < 0.5)
+    fail(file, where(t, "crh"), "'crh' of an ogive must be >= 0.5");
+  if (p.nose == NoseShape::Hemispherical && p.length < 0.5 * p.diameter)
+    fail(file, where(t, "length"), "a hemispherical nose needs length >= diameter / 2");
+  p.cavity_diameter = positive(t, "cavity_diameter", file, 0.0, true);
+  if (p.cavity_diameter > 0) {
+    p.cavity_start = positive(t, "cavity_start", file);
+    p.cavity_end = positive(t, "cavity_end", file);
+    if (p.cavity_diameter >= p.diameter)
+      fail(file, where(t, "cavity_diameter"), "'cavity_diameter' must be below 'diameter'");
+    if (p.cavity_end <= p.cavity_start || p.cavity_end >= p.length)
+      fail(file, where(t, "cavity_end"),
+           "the cavity must satisfy cavity_start < cavity_end < length");
+  }
+  p.mesh_size = positive(t, "mesh_size", file);
+  p.half = half;
+  return p;
+}
+
+Placement readPlacement(const toml::table& t, const std::string& file) {
+  Placement pl;
+  pl.translation = vec3(t, "position", file, Vec3::Zero());
+  if (const toml::table* r = table(t, "rotation", file)) {
+    allowKeys(*r, file, {"axis", "angle_deg"}, "rotation");
+    Vec3 axis = vec3(*r, "axis", file);
+    if (axis.norm() == 0) fail(file, where(*r, "axis"), "rotation 'axis' must not be zero");
+    const double angle = number(*r, "angle_deg", file) * M_PI / 180.0;
+    pl.rotation = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  }
+  return pl;
+}
+
+SceneBody readBody(const toml::table& t, const std::string& file, const Scene& sc) {
+  allowKeys(t, file,
+            {"name", "material", "discretisation", "projectile", "velocity", "position",
+             "rotation", "shape"},
+            "[[bodies]]");
+  SceneBody b;
+  b.name = string(t, "name", file);
+  b.material = string(t, "material", file);
+  // "sph" (a body made of particles from the start) arrives with the SPH layer.
+  choice(t, "discretisation", file, {"fem"}, std::string("fem"));
+  b.discretisation = Discretisation::Fem;
+  b.projectile = boolean(t, "projectile", file, false);
+  b.velocity = vec3(t, "velocity", file, Vec3::Zero());
+  b.placement = readPlacement(t, file);
+  if (sc.half) {
+    // The symmetry plane y = 0 must stay one: only rotations about y keep it.
+    const Mat3& R = b.placement.rotation;
+    if (std::abs(R(1, 1) - 1.0) > 1e-12 || std::abs(b.placement.translation.y()) > 0)
+      fail(file, where(t, "rotation"),
+           "in a half model bodies may only rotate about the y axis and not move along y");
+    if (b.velocity.y() != 0)
+      fail(file, where(t, "velocity"), "in a half model the velocity must have y = 0");
+  }
+  const toml::table& shape = *table(t, "shape", file, true);
+  const std::string type = choice(shape, "type", file, {"plate", "projectile", "msh"});
+  if (type == "plate") {
+    b.shape = readPlate(shape, file, sc.half);
+  } else if (type == "projectile") {
+    b.shape = readProjectile(shape, file, sc.half);
+  } else {
+    allowKeys(shape, file, {"type", "file", "scale"}, "msh shape");
+    MshShape m;
+    m.path = (fs::path(file).parent_path() / string(shape, "file", file)).string();
+    m.scale = positive(shape, "scale", file, 1.0);
+    if (!fs::exists(m.path)) fail(file, where(shape, "file"), "mesh file not found: " + m.path);
+    b.shape = m;
+  }
+  return b;
+}
+
+void readBoundary(const toml::table& t, const std::string& file, Scene& sc,
+                  const std::set<std::string>& body_names) {
+  const std::string type = choice(t, "type", file, {"fixed", "symmetry", "rigid_wall"});
+  if (type == "fixed") {
+    allowKeys(t, file, {"type", "body", "where", "min", "max"}, "fixed boundary");
+    FixedBoundary f;
+    f.body = string(t, "body", file);
+    if (!body_names.count(f.body))
+      fail(file, where(t, "body"), "no body named '" + f.body + "'");
+    f.where = choice(t, "where", file, {"rim", "box"});
+    if (f.where == "box") {
+      f.box_min = vec3(t, "min", file);
+      f.box_max = vec3(t, "max", file);
+      if ((f.box_max - f.box_min).minCoeff() <= 0)
+        fail(file, where(t, "max"), "'max' must exceed 'min' in every component");
+    }
+    sc.fixed.push_back(f);
+  } else if (type == "symmetry") {
+    allowKeys(t, file, {"type", "axis", "position"}, "symmetry boundary");
+    SymmetryPlane s;
+    const std::string axis = choice(t, "axis", file, {"x", "y", "z"});
+    s.axis = axis[0] - 'x';
+    s.position = number(t, "position", file, 0.0);
+    sc.symmetry.push_back(s);
+  } else {
+    allowKeys(t, file, {"type", "point", "normal", "friction"}, "rigid wall");
+    RigidWall w;
+    w.point = vec3(t, "point", file);
+    w.normal = vec3(t, "normal", file);
+    if (w.normal.norm() == 0) fail(file, where(t, "normal"), "'normal' must not be zero");
+    w.normal.normalize();
+    w.friction = positive(t, "friction", file, 0.0, true);
+    sc.walls.push_back(w);
+  }
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
+                const std::string& material_library) {
+  Scene sc;
+  sc.path = path;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, 0, "cannot open scene file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    sc.text = ss.str();
+  }
+  toml::table root = parseText(sc.text, path);
+  for (const std::string& o : overrides) {
+    applyOverride(root, o);
+    sc.text += "\n# --set " + o;
+  }
+  const std::string& file = path;
+  allowKeys(root, file, {"title", "simulation", "output", "materials", "bodies", "boundary"},
+            "the scene");
+  sc.title = string(root, "title", file, fs::path(path).stem().string());
+  readSimulation(*table(root, "simulation", file, true), file, sc);
+  readOutput(table(root, "output", file), file, sc);
+
+  const std::string lib_path =
+      material_library.empty() ? findMaterialLibrary(fs::path(path).parent_path())
+                               : material_library;
+  const MaterialLibrary lib = MaterialLibrary::load(lib_path);
+  const toml::table* overrides_tbl = table(root, "materials", file);
+
+  const auto bodies = tables(root, "bodies", file);
+  if (bodies.empty()) fail(file, root.source(), "the scene has no [[bodies]]");
+  std::set<std::string> names;
+  std::vector<std::string> material_ids;
+  for (const toml::table* bt : bodies) {
+    SceneBody b = readBody(*bt, file, sc);
+    if (!names.insert(b.name).second)
+      fail(file, where(*bt, "name"), "a body named '" + b.name + "' already exists");
+    if (!lib.contains(b.material)) {
+      std::string all;
+      for (const auto& id : lib.ids()) all += (all.empty() ? "" : ", ") + id;
+      fail(file, where(*bt, "material"),
+           "unknown material '" + b.material + "' (library " + lib_path + " has: " + all + ")");
+    }
+    if (std::find(material_ids.begin(), material_ids.end(), b.material) == material_ids.end())
+      material_ids.push_back(b.material);
+    sc.bodies.push_back(std::move(b));
+  }
+  if (overrides_tbl) {
+    for (auto&& [k, v] : *overrides_tbl) {
+      const std::string id(k.str());
+      if (std::find(material_ids.begin(), material_ids.end(), id) == material_ids.end())
+        fail(file, k.source(), "material override '" + id + "' is not used by any body");
+      if (!v.is_table()) fail(file, v.source(), "[materials." + id + "] must be a table");
+    }
+  }
+  for (const std::string& id : material_ids) {
+    const toml::table* over = overrides_tbl ? table(*overrides_tbl, id, file) : nullptr;
+    sc.materials.push_back(over ? parseMaterial(*over, file, lib.get(id), id) : lib.get(id));
+  }
+  sc.material_ids = material_ids;
+
+  for (const toml::table* bt : tables(root, "boundary", file)) readBoundary(*bt, file, sc, names);
+  if (sc.half) sc.symmetry.push_back({1, 0.0});
+  return sc;
+}
+
+namespace {
+
+TetMesh meshBody(const SceneBody& b) {
+  if (const auto* p = std::get_if<PlateSpec>(&b.shape)) return meshPlate(*p);
+  if (const auto* p = std::get_if<ProjectileSpec>(&b.shape)) return meshProjectile(*p);
+  const auto& m = std::get<MshShape>(b.shape);
+  return readMsh(m.path, m.scale);
+}
+
+// Nodes on the lateral faces of a plate, found in its local frame.
+void fixPlateRim(Model& model, int body, const TetMesh& mesh, const PlateSpec& p) {
+  const double tol = 1e-6 * std::max(p.size_x, p.size_y);
+  const Body& b = model.bodies[body];
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    const Vec3& x = mesh.nodes[i];
+    const bool rim = std::abs(std::abs(x.x()) - 0.5 * p.size_x) < tol ||
+                     std::abs(x.y() - 0.5 * p.size_y) < tol ||
+                     (!p.half && std::abs(x.y() + 0.5 * p.size_y) < tol);
+    if (rim) model.nodes.fix[b.node_begin + i] = 0b111;
+  }
+}
+
+}  // namespace
+
+Model buildModel(const Scene& sc, std::ostream* log) {
+  Model model;
+  model.materials = sc.materials;
+  model.controls = sc.controls;
+  model.walls = sc.walls;
+  std::vector<TetMesh> meshes;
+  for (const SceneBody& b : sc.bodies) {
+    TetMesh mesh = meshBody(b);
+    const int mat = static_cast<int>(
+        std::find(sc.material_ids.begin(), sc.material_ids.end(), b.material) -
+        sc.material_ids.begin());
+    if (log) {
+      const MeshQuality q = meshQuality(mesh);
+      *log << "  body '" << b.name << "': " << q.nodes << " nodes, " << q.elements
+           << " tets, shape quality min " << q.min_quality << " mean " << q.mean_quality
+           << ", min dihedral " << q.min_dihedral_deg << " deg\n";
+    }
+    addBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile);
+    meshes.push_back(std::move(mesh));
+  }
+  for (const FixedBoundary& f : sc.fixed) {
+    const int body = static_cast<int>(
+        std::find_if(sc.bodies.begin(), sc.bodies.end(),
+                     [&](const SceneBody& b) { return b.name == f.body; }) -
+        sc.bodies.begin());
+    const Body& b = model.bodies[body];
+    if (f.where == "rim") {
+      if (const auto* p = std::get_if<PlateSpec>(&sc.bodies[body].shape))
+        fixPlateRim(model, body, meshes[body], *p);
+      else
+        throw InputError(sc.path, 0, 0, "'where = \"rim\"' needs a plate body: " + f.body);
+    } else {
+      for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+        const Vec3& x = model.nodes.x[a];
+        if ((x - f.box_min).minCoeff() >= 0 && (f.box_max - x).minCoeff() >= 0)
+          model.nodes.fix[a] = 0b111;
+      }
+    }
+  }
+  for (const SymmetryPlane& s : sc.symmetry) {
+    // Tolerance relative to the model's size: nodes meshed on the plane sit on it to round-off.
+    double extent = 0;
+    for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
+    const double tol = 1e-9 * std::max(extent, 1e-3);
+    for (std::size_t a = 0; a < model.nodes.size(); ++a)
+      if (std::abs(model.nodes.x[a][s.axis] - s.position) < tol)
+        model.nodes.fix[a] |= static_cast<std::uint8_t>(1u << s.axis);
+  }
+  finaliseModel(model);
+  return model;
+}
+
+}  // namespace fesph

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+// Scenes: a TOML file (SI units) describing the simulation, materials, bodies, boundary
+// conditions and output. Everything is checked before any work starts; errors name the file,
+// line and column and say what was expected.
+#pragma once
+
+#include "core/mesh/mesh.hpp"
+#include "core/state/model.hpp"
+#include "core/state/model_build.hpp"
+
+#include <iosfwd>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace fesph {
+
+struct MshShape {
+  std::string path;  ///< resolved against the scene's folder
+  double scale = 1.0;
+};
+
+struct SceneBody {
+  std::string name;
+  std::string material;  ///< material id
+  Discretisation discretisation = Discretisation::Fem;
+  bool projectile = false;
+  std::variant<PlateSpec, ProjectileSpec, MshShape> shape;
+  Placement placement;
+  Vec3 velocity = Vec3::Zero();
+};
+
+struct FixedBoundary {
+  std::string body;       ///< body name
+  std::string where;      ///< "rim" (plate edges) or "box"
+  Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  ///< global coordinates, for "box"
+};
+
+struct SymmetryPlane {
+  int axis = 1;           ///< 0, 1, 2 = x, y, z
+  double position = 0.0;  ///< m
+};
+
+struct OutputSpec {
+  std::string folder;                ///< run folder
+  double interval = 0;               ///< s between field outputs
+  std::vector<std::string> fields;   ///< empty: all
+  long history_every = 10;           ///< steps between history rows
+};
+
+struct Scene {
+  std::string path;    ///< the scene file
+  std::string text;    ///< its text after --set overrides, for the run's metadata
+  std::string title;
+  SolverControls controls;
+  OutputSpec output;
+  bool half = false;   ///< half model cut on y = 0
+  std::vector<Material> materials;  ///< the materials the bodies use (overrides applied)
+  std::vector<std::string> material_ids;  ///< library id of each entry of `materials`
+  std::vector<SceneBody> bodies;
+  std::vector<FixedBoundary> fixed;
+  std::vector<SymmetryPlane> symmetry;
+  std::vector<RigidWall> walls;
+};
+
+/// Read and check a scene. `overrides` are "dotted.key=value" strings (TOML values) applied
+/// before checking, e.g. "simulation.end_time=2e-5" or "bodies.0.velocity=[0,0,-200]".
+/// `material_library`: path of the material library; empty means the one beside the scene
+/// (scenes/materials.toml found by walking up from the scene's folder).
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {},
+                const std::string& material_library = "");
+
+/// Mesh every body and assemble the model. Writes mesh figures to `log` when given.
+Model buildModel(const Scene& scene, std::ostream* log = nullptr);
+
+}  // namespace fesph

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+#include "core/solver/boundary.hpp"
+
+namespace fesph {
+
+void applyFixedVelocities(Model& model) {
+  Nodes& nd = model.nodes;
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < nd.size(); ++a) {
+    const std::uint8_t bits = nd.fix[a];
+    if (!bits) continue;
+    for (int k = 0; k < 3; ++k)
+      if (bits & (1u << k)) nd.v[a][k] = 0.0;
+  }
+}
+
+void enforceRigidWalls(Model& model, double dt) {
+  Nodes& nd = model.nodes;
+  for (const RigidWall& w : model.walls) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t a = 0; a < nd.size(); ++a) {
+      if (nd.m[a] <= 0) continue;
+      const double gap_next = (nd.x[a] + dt * nd.v[a] - w.point).dot(w.normal);
+      if (gap_next >= 0) continue;
+      // normal velocity change that lands the node exactly on the wall at the end of the step
+      const double dvn = -gap_next / dt;
+      Vec3 v = nd.v[a] + dvn * w.normal;
+      if (w.friction > 0) {
+        const Vec3 vt = v - v.dot(w.normal) * w.normal;
+        const double vt_norm = vt.norm();
+        if (vt_norm > 0) v -= std::min(1.0, w.friction * dvn / vt_norm) * vt;
+      }
+      nd.v[a] = v;
+    }
+  }
+}
+
+}  // namespace fesph

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// Cubic B-spline smoothing kernel in 3-D (Monaghan & Lattanzio 1985), support 2h, and its
+// gradient. The one kernel of the SPH layer.
+#pragma once
+
+#include "core/common/types.hpp"
+
+namespace fesph {
+
+/// The kernel's shape without its normalisation: W(r, h) = kernelShape(r/h) / (pi h^3).
+inline double kernelShape(double q) {
+  if (q < 1.0) return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+  if (q < 2.0) {
+    const double t = 2.0 - q;
+    return 0.25 * t * t * t;
+  }
+  return 0.0;
+}
+
+/// W(r, h) = 1/(pi h^3) {1 - 1.5 q^2 + 0.75 q^3 (q < 1); 0.25 (2 - q)^3 (1 <= q < 2); 0},
+/// q = r/h; r, h in m, W in 1/m^3. Integrates to 1 over space.
+inline double kernelW(double r, double h) {
+  return kernelShape(r / h) / (EIGEN_PI * h * h * h);
+}
+
+/// dW/dr divided by r (1/m^5): the gradient is this factor times the separation vector, and
+/// the division is exact at r = 0 (the limit is -3/(pi h^5)), so no special case is needed.
+inline double kernelDWdrOverR(double r, double h) {
+  const double q = r / h;
+  const double norm = 1.0 / (EIGEN_PI * h * h * h * h * h);
+  if (q < 1.0) return norm * (-3.0 + 2.25 * q);
+  if (q < 2.0) {
+    const double t = 2.0 - q;
+    return q > 0.0 ? -norm * 0.75 * t * t / q : 0.0;
+  }
+  return 0.0;
+}
+
+/// grad_i W(|x_i - x_j|, h) for r_ij = x_i - x_j (1/m^4). Odd: grad W_ji = -grad W_ij.
+inline Vec3 kernelGradient(const Vec3& r_ij, double h) {
+  return kernelDWdrOverR(r_ij.norm(), h) * r_ij;
+}
+
+}  // namespace fesph

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+#include "core/sph/neighbours.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace fesph {
+
+namespace {
+
+int maxThreads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+/// Compressed rows built in parallel without atomics: each thread takes one contiguous block
+/// of rows, collects them in its own buffer, and copies the buffer to its place once the
+/// row lengths are known. The result is the same for any number of threads.
+/// collect(i, buf) appends row i (already in its final order) to buf.
+template <class Collect>
+void buildRows(std::size_t n, Collect&& collect, std::vector<std::vector<int>>& thread_buf,
+               std::vector<std::size_t>& count, NeighbourList& out) {
+  thread_buf.resize(static_cast<std::size_t>(maxThreads()));
+  count.assign(n, 0);
+  out.offset.assign(n + 1, 0);
+#pragma omp parallel
+  {
+#ifdef _OPENMP
+    const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+#else
+    const std::size_t nt = 1, t = 0;
+#endif
+    const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
+    std::vector<int>& buf = thread_buf[t];
+    buf.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t before = buf.size();
+      collect(i, buf);
+      count[i] = buf.size() - before;
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      for (std::size_t i = 0; i < n; ++i) out.offset[i + 1] = out.offset[i] + count[i];
+      out.index.resize(out.offset[n]);
+    }
+    std::copy(buf.begin(), buf.end(), out.index.begin() + static_cast<std::ptrdiff_t>(out.offset[begin]));
+  }
+}
+
+}  // namespace
+
+std::uint64_t CellGrid::bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
+  // large odd multipliers (Teschner et al. 2003) mix the three cell indices
+  const std::uint64_t key = static_cast<std::uint64_t>(ix) * 73856093ULL ^
+                            static_cast<std::uint64_t>(iy) * 19349663ULL ^
+                            static_cast<std::uint64_t>(iz) * 83492791ULL;
+  return key & mask_;
+}
+
+int CellGrid::nearbyBuckets(const Vec3& p, std::uint64_t* out) const {
+  const Vec3 c = (p - origin_) * inv_cell_;
+  const std::int64_t ix = static_cast<std::int64_t>(std::floor(c.x()));
+  const std::int64_t iy = static_cast<std::int64_t>(std::floor(c.y()));
+  const std::int64_t iz = static_cast<std::int64_t>(std::floor(c.z()));
+  int n = 0;
+  for (std::int64_t dz = -1; dz <= 1; ++dz)
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+      for (std::int64_t dx = -1; dx <= 1; ++dx) out[n++] = bucketOf(ix + dx, iy + dy, iz + dz);
+  std::sort(out, out + n);
+  return static_cast<int>(std::unique(out, out + n) - out);
+}
+
+void CellGrid::build(const std::vector<Vec3>& x, const std::vector<int>& ids, double cell) {
+  sorted_.clear();
+  if (ids.empty()) return;
+  inv_cell_ = 1.0 / cell;
+  origin_ = x[ids[0]];
+  for (int i : ids) origin_ = origin_.cwiseMin(x[i]);
+  std::uint64_t buckets = 1;
+  while (buckets < 2 * ids.size()) buckets <<= 1;  // load factor <= 1/2
+  mask_ = buckets - 1;
+
+  // counting sort by bucket; ids are ascending, so each bucket stays ascending
+  std::vector<std::uint64_t> key(ids.size());
+  start_.assign(buckets + 1, 0);
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const Vec3 c = (x[ids[k]] - origin_) * inv_cell_;
+    key[k] = bucketOf(static_cast<std::int64_t>(std::floor(c.x())),
+                      static_cast<std::int64_t>(std::floor(c.y())),
+                      static_cast<std::int64_t>(std::floor(c.z())));
+    ++start_[key[k] + 1];
+  }
+  for (std::uint64_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
+  sorted_.resize(ids.size());
+  std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+  for (std::size_t k = 0; k < ids.size(); ++k) sorted_[fill[key[k]]++] = ids[k];
+}
+
+void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vector<double>& h,
+                                    const std::vector<int>& body, NeighbourList& out) {
+  const std::size_t n = x.size();
+  int n_bodies = 0;
+  for (int b : body) n_bodies = std::max(n_bodies, b + 1);
+  ids_.resize(static_cast<std::size_t>(n_bodies));
+  for (auto& v : ids_) v.clear();
+  std::vector<double> h_max(static_cast<std::size_t>(n_bodies), 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    ids_[body[i]].push_back(static_cast<int>(i));
+    h_max[body[i]] = std::max(h_max[body[i]], h[i]);
+  }
+  grids_.resize(static_cast<std::size_t>(n_bodies));
+  for (int b = 0; b < n_bodies; ++b) grids_[b].build(x, ids_[b], 2.0 * h_max[b]);
+
+  buildRows(
+      n,
+      [&](std::size_t i, std::vector<int>& buf) {
+        const std::size_t first = buf.size();
+        const Vec3 xi = x[i];
+        const double hi = h[i];
+        grids_[body[i]].forEachCandidate(xi, [&](int j) {
+          const double support = hi + h[j];  // 2 h_ij
+          if (j != static_cast<int>(i) && (xi - x[j]).squaredNorm() < support * support)
+            buf.push_back(j);
+        });
+        std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
+      },
+      thread_index_, count_, out);
+}
+
+void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                     const std::vector<int>& body,
+                                     std::vector<std::pair<int, int>>& out) {
+  const std::size_t n = x.size();
+  out.clear();
+  ids_.resize(1);
+  ids_[0].resize(n);
+  double r_max = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ids_[0][i] = static_cast<int>(i);
+    r_max = std::max(r_max, r[i]);
+  }
+  if (n == 0 || !(r_max > 0)) return;
+  grids_.resize(1);
+  grids_[0].build(x, ids_[0], 2.0 * r_max);
+
+  NeighbourList rows;
+  buildRows(
+      n,
+      [&](std::size_t i, std::vector<int>& buf) {
+        const std::size_t first = buf.size();
+        grids_[0].forEachCandidate(x[i], [&](int j) {
+          const double reach = r[i] + r[j];
+          if (j > static_cast<int>(i) && body[j] != body[i] &&
+              (x[i] - x[j]).squaredNorm() < reach * reach)
+            buf.push_back(j);
+        });
+        std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
+      },
+      thread_index_, count_, rows);
+  out.reserve(rows.pairs());
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = rows.offset[i]; k < rows.offset[i + 1]; ++k)
+      out.emplace_back(static_cast<int>(i), rows.index[k]);
+}
+
+void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,
+                             const std::vector<int>& body, NeighbourList& out) {
+  const std::size_t n = x.size();
+  out.offset.assign(n + 1, 0);
+  out.index.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      const double support = h[i] + h[j];
+      if (j != i && body[j] == body[i] && (x[i] - x[j]).squaredNorm() < support * support)
+        out.index.push_back(static_cast<int>(j));
+    }
+    out.offset[i + 1] = out.index.size();
+  }
+}
+
+}  // namespace fesph

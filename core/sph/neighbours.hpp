@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+// Neighbour search for the SPH layer: a hashed uniform cell list rebuilt every step (O(N)),
+// SPH pairs within one body, contact pairs across bodies, and a brute-force reference.
+#pragma once
+
+#include "core/common/types.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace fesph {
+
+/// Neighbour lists in compressed rows: the neighbours of particle i are
+/// index[offset[i]] .. index[offset[i+1] - 1], ascending, i itself excluded.
+struct NeighbourList {
+  std::vector<std::size_t> offset;  ///< size particles + 1
+  std::vector<int> index;           ///< neighbour ids
+  std::size_t pairs() const { return index.size(); }
+};
+
+/// Uniform grid of cubic cells over a set of points, stored as a hash table of buckets so that
+/// its memory is O(points) however far debris flies apart. A bucket may hold points of
+/// several cells (hash collisions); callers filter by distance, which is the real test.
+class CellGrid {
+ public:
+  /// Sort the points `ids` (ascending) of `x` into cells of edge `cell` (m, > 0).
+  void build(const std::vector<Vec3>& x, const std::vector<int>& ids, double cell);
+
+  /// Call fn(j) once for every point j in the 27 cells around position p (and for points
+  /// sharing their buckets): buckets in ascending order, ids ascending within a bucket.
+  template <class Fn>
+  void forEachCandidate(const Vec3& p, Fn&& fn) const {
+    std::uint64_t buckets[27];
+    int n = nearbyBuckets(p, buckets);
+    for (int k = 0; k < n; ++k)
+      for (std::size_t s = start_[buckets[k]]; s < start_[buckets[k] + 1]; ++s) fn(sorted_[s]);
+  }
+
+  bool empty() const { return sorted_.empty(); }
+
+ private:
+  std::uint64_t bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const;
+  /// Distinct buckets of the 27 cells around p, ascending; returns their count.
+  int nearbyBuckets(const Vec3& p, std::uint64_t* out) const;
+
+  double inv_cell_ = 0;
+  Vec3 origin_ = Vec3::Zero();
+  std::uint64_t mask_ = 0;
+  std::vector<std::size_t> start_;  ///< bucket -> first slot in sorted_ (size buckets + 1)
+  std::vector<int> sorted_;         ///< point ids grouped by bucket
+};
+
+/// Rebuilds neighbour lists and contact pairs each step, keeping its storage between calls.
+/// Results do not depend on the number of threads.
+class NeighbourSearch {
+ public:
+  /// SPH neighbours: pairs of the same body with |x_i - x_j| < 2 h_ij, h_ij = (h_i + h_j)/2.
+  /// One grid per body with cells of 2 max(h) of that body.
+  void sphNeighbours(const std::vector<Vec3>& x, const std::vector<double>& h,
+                     const std::vector<int>& body, NeighbourList& out);
+
+  /// Contact candidates: pairs (i < j) of different bodies with |x_i - x_j| < r_i + r_j,
+  /// sorted by (i, j). One grid over all points with cells of 2 max(r).
+  void crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
+                      const std::vector<int>& body, std::vector<std::pair<int, int>>& out);
+
+ private:
+  std::vector<CellGrid> grids_;
+  std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
+  std::vector<std::vector<int>> thread_index_;      ///< per-thread neighbour ids
+  std::vector<std::size_t> count_;
+};
+
+/// O(N^2) reference for sphNeighbours, for tests.
+void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,
+                             const std::vector<int>& body, NeighbourList& out);
+
+}  // namespace fesph

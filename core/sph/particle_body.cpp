@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+#include "core/sph/particle_body.hpp"
+
+#include "core/common/error.hpp"
+
+#include <cmath>
+
+namespace fesph {
+
+int addParticleBody(Model& model, const std::string& name, const std::vector<Vec3>& points,
+                    const std::vector<double>& volumes, int material, const Vec3& velocity,
+                    bool is_projectile, double kappa) {
+  if (points.size() != volumes.size())
+    throw InputError("", 0, 0, "body '" + name + "': " + std::to_string(points.size()) +
+                                   " particle positions but " + std::to_string(volumes.size()) +
+                                   " volumes");
+  const Material& mat = model.materials.at(material);
+  const int b = static_cast<int>(model.bodies.size());
+  Body body;
+  body.name = name;
+  body.material = material;
+  body.discretisation = Discretisation::Sph;
+  body.is_projectile = is_projectile;
+  body.node_begin = body.node_end = model.nodes.size();
+  body.elem_begin = body.elem_end = model.elems.size();
+
+  Particles& pa = model.particles;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const double V = volumes[k];
+    if (!(V > 0))
+      throw InputError("", 0, 0, "body '" + name + "': particle " + std::to_string(k) +
+                                     " has non-positive volume " + std::to_string(V) + " m^3");
+    const double d = std::cbrt(V);
+    pa.x.push_back(points[k]);
+    pa.v.push_back(velocity);
+    pa.f.push_back(Vec3::Zero());
+    pa.m.push_back(mat.rho0 * V);
+    pa.V.push_back(V);
+    pa.rho.push_back(mat.rho0);
+    pa.h.push_back(kappa * d);
+    pa.d0.push_back(d);
+    pa.dt.push_back(0.0);
+    PointState st;
+    st.T = mat.T_room;
+    pa.state.push_back(st);
+    pa.body.push_back(b);
+    pa.material.push_back(material);
+    pa.parent.push_back(-1);
+    pa.tie.push_back(Tie{});
+  }
+  model.bodies.push_back(body);
+  return b;
+}
+
+int addParticleBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
+                    const Placement& placement, const Vec3& velocity, bool is_projectile,
+                    double kappa) {
+  std::vector<Vec3> points;
+  std::vector<double> volumes;
+  points.reserve(mesh.tets.size());
+  volumes.reserve(mesh.tets.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    std::array<Vec3, 4> x;
+    for (int k = 0; k < 4; ++k)
+      x[k] = placement.rotation * mesh.nodes[mesh.tets[t][k]] + placement.translation;
+    volumes.push_back(tetVolume(x[0], x[1], x[2], x[3]));
+    points.push_back(0.25 * (x[0] + x[1] + x[2] + x[3]));
+  }
+  return addParticleBody(model, name, points, volumes, material, velocity, is_projectile, kappa);
+}
+
+Vec3 particleBodyCentre(const Model& model, int body) {
+  const Particles& pa = model.particles;
+  Vec3 s = Vec3::Zero();
+  double m = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa.body[i] != body) continue;
+    s += pa.m[i] * pa.x[i];
+    m += pa.m[i];
+  }
+  return m > 0 ? Vec3(s / m) : Vec3::Zero();
+}
+
+Vec3 particleBodyVelocity(const Model& model, int body) {
+  const Particles& pa = model.particles;
+  Vec3 p = Vec3::Zero();
+  double m = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa.body[i] != body) continue;
+    p += pa.m[i] * pa.v[i];
+    m += pa.m[i];
+  }
+  return m > 0 ? Vec3(p / m) : Vec3::Zero();
+}
+
+}  // namespace fesph

@@ -1,0 +1,326 @@
+// SPDX-License-Identifier: MIT
+// Updated-Lagrangian SPH for solids: corrected velocity gradient, material update shared with
+// the elements, anti-symmetric corrected forces, artificial viscosity and artificial stress,
+// stable step estimates; and the compression-only contact between particles of different
+// bodies. Formulation and choices: docs/sph.md.
+#include "core/sph/sph_forces.hpp"
+
+#include "core/sph/kernel.hpp"
+#include "core/sph/sph_workspace.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace fesph {
+
+namespace {
+
+/// B_i from A_i = sum_j V_j (x_j - x_i) (x) grad W_ij (symmetric, positive semi-definite since
+/// grad W_ij is parallel to x_i - x_j): A^-1 reproduces any linear field exactly. Where A is
+/// ill-conditioned (too few neighbours, or a line or a sheet of them: debris) the inverse
+/// amplifies noise, so the plain gradient is used, normalised by the largest eigenvalue of A
+/// so that it is exact along the best-sampled direction (B = I for a full neighbourhood).
+Mat3 gradientCorrection(const Mat3& A_raw, std::size_t neighbours, const SphControls& ctl,
+                        bool& corrected) {
+  const Mat3 A = 0.5 * (A_raw + A_raw.transpose());
+  Eigen::SelfAdjointEigenSolver<Mat3> es;
+  es.computeDirect(A);
+  const Vec3 lam = es.eigenvalues();  // ascending
+  corrected = neighbours >= static_cast<std::size_t>(ctl.min_neighbours) && lam(2) > 0 &&
+              lam(0) * ctl.max_condition > lam(2);
+  if (corrected) {
+    const Mat3& Q = es.eigenvectors();
+    const Mat3 B = Q * lam.cwiseInverse().asDiagonal() * Q.transpose();
+    return 0.5 * (B + B.transpose());
+  }
+  return lam(2) > 0 ? Mat3(Mat3::Identity() / lam(2)) : Mat3(Mat3::Identity());
+}
+
+/// Monaghan (2000) artificial stress of a Cauchy stress: -epsilon times its tensile principal
+/// stresses, in the principal frame (Gray, Monaghan & Swift 2001, eq. 4.7, in stress units).
+Mat3 artificialStress(const Mat3& sigma, double epsilon) {
+  Eigen::SelfAdjointEigenSolver<Mat3> es;
+  es.computeDirect(sigma);
+  const Vec3 r = -epsilon * es.eigenvalues().cwiseMax(0.0);
+  if (r.isZero()) return Mat3::Zero();
+  const Mat3& Q = es.eigenvectors();
+  return Q * r.asDiagonal() * Q.transpose();
+}
+
+double powInt(double x, int n) {
+  double y = 1.0;
+  for (int k = 0; k < n; ++k) y *= x;
+  return y;
+}
+
+void resizeWorkspace(SphWorkspace& ws, std::size_t n) {
+  ws.current.resize(n);
+  ws.corrected.resize(n);
+  ws.velocity_grad.resize(n);
+  ws.velocity_grad_prev.resize(n);
+  ws.stress_b.resize(n);
+  ws.plastic_work.resize(n);
+  ws.av_work.resize(n);
+}
+
+/// Pass 1 for particle i: kernel gradients of its pairs, correction B_i and velocity gradient
+/// L_i = sum_j V_j (v_j - v_i) (x) (B_i grad W_ij), exact for linear velocity fields; and the
+/// same gradient of v^{n-1/2} over the last step's configuration (the exact dual of the last
+/// step's forces), whose mean with L_i centres the rate in the interval, as the elements'
+/// midpoint configuration does.
+void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
+  const NeighbourList& nb = ws.neighbours;
+  SphSnapshot& cur = ws.current;
+  cur.x[i] = pa.x[i];
+  cur.v[i] = pa.v[i];
+  cur.h[i] = pa.h[i];
+  cur.V[i] = pa.V[i];
+  Mat3 A = Mat3::Zero(), G = Mat3::Zero();
+  for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+    const int j = nb.index[k];
+    const Vec3 r_ij = pa.x[i] - pa.x[j];
+    const Vec3 g = kernelGradient(r_ij, 0.5 * (pa.h[i] + pa.h[j]));
+    ws.pair_grad[k] = g;
+    A.noalias() -= (pa.V[j] * r_ij) * g.transpose();
+    G.noalias() += (pa.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
+  }
+  bool corrected = false;
+  const Mat3 B = gradientCorrection(A, nb.offset[i + 1] - nb.offset[i], ws.controls, corrected);
+  cur.B[i] = B;
+  ws.corrected[i] = corrected ? 1 : 0;
+  ws.velocity_grad[i] = G * B;
+
+  // Pairs of the last step are taken from this step's list: a pair that has just left the
+  // support had a vanishing kernel gradient there (W' is continuous and zero at q = 2).
+  const SphSnapshot& prev = ws.previous;
+  const std::size_t np = prev.size();
+  if (i >= np) {  // born this step: no previous configuration
+    ws.velocity_grad_prev[i] = ws.velocity_grad[i];
+    return;
+  }
+  Mat3 Gp = Mat3::Zero();
+  for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+    const std::size_t j = static_cast<std::size_t>(nb.index[k]);
+    if (j >= np) continue;
+    const Vec3 g = kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
+    ws.pair_grad_prev[k] = g;
+    Gp.noalias() += (prev.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
+  }
+  ws.velocity_grad_prev[i] = Gp * prev.B[i];
+}
+
+/// Pass 2 for particle i over the last interval dt, as the elements do it: Jaumann /
+/// Johnson-Cook / damage update with the centred rate, volume from the continuity equation,
+/// trapezoidal stress work and one predictor-corrector on the EOS pressure with energy. The
+/// work is the stress power of the forces at both ends of the interval (V_i sigma_i : L_i),
+/// so that the energy booked is the work the forces do on the velocities.
+void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
+  Particles& pa = model.particles;
+  const Material& mat = model.materials[pa.material[i]];
+  PointState& st = pa.state[i];
+  SphSnapshot& cur = ws.current;
+  const double mass = pa.m[i];
+  const Mat3& Lc = ws.velocity_grad[i];
+  const Mat3& Lp = ws.velocity_grad_prev[i];
+  const Mat3 L = 0.5 * (Lp + Lc);
+  const Sym D = Sym::fromMatrix(L), Dc = Sym::fromMatrix(Lc), Dp = Sym::fromMatrix(Lp);
+  const Mat3 W = 0.5 * (L - L.transpose());
+  const double Vc = cur.V[i];
+  const double Vp = i < ws.previous.size() ? ws.previous.V[i] : Vc;
+
+  const Sym s_old = st.s;
+  const double wp = updateDeviatoricStress(mat, D, W, dt, pa.rho[i], st);
+  // dV/dt = V tr(D), integrated exactly for a constant rate: V stays positive
+  const double V_new = Vc * std::exp(D.trace() * dt);
+  pa.V[i] = V_new;
+  pa.rho[i] = mass / V_new;
+  pa.h[i] *= std::cbrt(V_new / Vc);  // h follows density: h = h0 (rho0 / rho)^(1/3)
+  ws.plastic_work[i] = wp * 0.5 * (Vc + V_new);
+
+  st.e += 0.5 * (Vp * s_old.dot(Dp) + Vc * st.s.dot(Dc)) * dt / mass;
+  const double dv_old = Vp * Dp.trace() * dt, dv_new = Vc * Dc.trace() * dt;  // m^3
+  const double p_old = st.p;
+  double p_new =
+      eosPressure(mat, pa.rho[i], st.e - 0.5 * p_old * (dv_old + dv_new) / mass, st.damage);
+  st.e -= 0.5 * (p_old * dv_old + p_new * dv_new) / mass;
+  p_new = eosPressure(mat, pa.rho[i], st.e, st.damage);
+  st.p = p_new;
+
+  cur.rho[i] = pa.rho[i];
+  cur.c[i] = waveSpeed(mat, pa.rho[i]);
+  cur.d[i] = std::cbrt(Vc);
+  Mat3 sigma = st.s.matrix();
+  sigma.diagonal().array() -= st.p;
+  ws.stress_b[i] = sigma * cur.B[i];
+  cur.R[i] = ws.controls.artificial_stress ? artificialStress(sigma, ws.controls.as_epsilon)
+                                           : Mat3::Zero();
+  cur.tensile[i] = cur.R[i].isZero(0.0) ? 0 : 1;
+}
+
+/// Stabilisation force on i from j in the configuration `s`, with g = grad W_ij there:
+/// Monaghan's artificial stress V_i V_j f^n (R_i + R_j) g, f = W(r)/W(d_ij) (Gray, Monaghan &
+/// Swift 2001), and the Monaghan & Gingold (1983) viscosity -m_i m_j Pi_ij g for approaching
+/// pairs. Anti-symmetric bit for bit. `mu` receives -mu_ij (>= 0) for the time step.
+Vec3 stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i,
+                        std::size_t j, const Vec3& g, const SphControls& ctl, double& mu) {
+  const Vec3 r_ij = s.x[i] - s.x[j];
+  const double h_ij = 0.5 * (s.h[i] + s.h[j]);
+  Vec3 f = Vec3::Zero();
+  if (s.tensile[i] || s.tensile[j]) {
+    const double dp = 0.5 * (s.d[i] + s.d[j]);
+    const double fn =
+        powInt(kernelShape(r_ij.norm() / h_ij) / kernelShape(dp / h_ij), ctl.as_exponent);
+    f = (s.V[i] * s.V[j] * fn) * ((s.R[i] + s.R[j]) * g);
+  }
+  mu = 0;
+  const double vr = (s.v[i] - s.v[j]).dot(r_ij);
+  if (vr < 0) {
+    const double mu_ij = h_ij * vr / (r_ij.squaredNorm() + 0.01 * h_ij * h_ij);
+    const double c_ij = 0.5 * (s.c[i] + s.c[j]);
+    const double rho_ij = 0.5 * (s.rho[i] + s.rho[j]);
+    const double Pi = (-ctl.av_alpha * c_ij * mu_ij + ctl.av_beta * mu_ij * mu_ij) / rho_ij;
+    f -= (pa.m[i] * pa.m[j] * Pi) * g;
+    mu = -mu_ij;
+  }
+  return f;
+}
+
+/// Pass 3 for particle i: f_i = sum_j f_ij with
+///   f_ij = V_i V_j (sigma_i B_i + sigma_j B_j) grad W_ij + stabilisation,
+/// the first term the exact virtual-work dual of L_i (f_ij = -f_ji bit for bit, and the
+/// internal power equals the stress power). Sets the stable step estimate. Returns the heat of
+/// the stabilisation forces over the last interval (J): their work on the relative velocity
+/// v^{n-1/2}, trapezoidal over the forces of this and the last step, half to each particle.
+double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
+  Particles& pa = model.particles;
+  const SphControls& ctl = ws.controls;
+  const NeighbourList& nb = ws.neighbours;
+  const SphSnapshot& cur = ws.current;
+  const SphSnapshot& prev = ws.previous;
+  const std::size_t np = prev.size();
+  const Mat3& Si = ws.stress_b[i];
+  Vec3 f = Vec3::Zero();
+  double heat_power = 0, mu_max = 0, mu = 0;
+  for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+    const std::size_t j = static_cast<std::size_t>(nb.index[k]);
+    const Vec3& g = ws.pair_grad[k];
+    const Vec3 f_stab = stabilisationForce(cur, pa, i, j, g, ctl, mu);
+    mu_max = std::max(mu_max, mu);
+    f += (cur.V[i] * cur.V[j]) * ((Si + ws.stress_b[j]) * g) + f_stab;
+    Vec3 f_stab_sum = f_stab;
+    if (i < np && j < np) {
+      f_stab_sum += stabilisationForce(prev, pa, i, j, ws.pair_grad_prev[k], ctl, mu);
+    } else {
+      f_stab_sum += f_stab;
+    }
+    heat_power -= 0.25 * f_stab_sum.dot(pa.v[i] - pa.v[j]);
+  }
+  pa.f[i] = f;
+  const double ci = cur.c[i];
+  const double speed = ci + pa.v[i].norm() + 1.2 * (ctl.av_alpha * ci + ctl.av_beta * mu_max);
+  pa.dt[i] = cur.h[i] / speed;
+  return heat_power * dt;
+}
+
+}  // namespace
+
+void SphSnapshot::resize(std::size_t n) {
+  x.resize(n);
+  v.resize(n);
+  h.resize(n);
+  V.resize(n);
+  rho.resize(n);
+  c.resize(n);
+  d.resize(n);
+  B.resize(n);
+  R.resize(n);
+  tensile.resize(n);
+}
+
+void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
+  Particles& pa = model.particles;
+  const std::size_t n = pa.size();
+  if (n == 0) return;
+  std::swap(ws.current, ws.previous);
+  resizeWorkspace(ws, n);
+  ws.search.sphNeighbours(pa.x, pa.h, pa.body, ws.neighbours);
+  ws.pair_grad.resize(ws.neighbours.pairs());
+  ws.pair_grad_prev.resize(ws.neighbours.pairs());
+  const long ni = static_cast<long>(n);
+
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < ni; ++i) kinematics(pa, static_cast<std::size_t>(i), ws);
+  // Volumes of neighbours change below: the passes must stay separate.
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < ni; ++i) updateMaterial(model, static_cast<std::size_t>(i), dt_last, ws);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < ni; ++i)
+    ws.av_work[i] = forces(model, static_cast<std::size_t>(i), dt_last, ws);
+
+  // Stabilisation work becomes heat; sums in a fixed order (same for any thread count).
+  double internal = 0, plastic = 0, av = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    pa.state[i].e += ws.av_work[i] / pa.m[i];
+    internal += pa.m[i] * pa.state[i].e;
+    plastic += ws.plastic_work[i];
+    av += ws.av_work[i];
+  }
+  EnergyBudget& en = model.energy;
+  en.internal += internal;
+  en.plastic_work += plastic;
+  en.artificial_viscosity += av;
+}
+
+void computeParticleForces(Model& model, double dt_last) {
+  if (model.particles.size() == 0) return;
+  SphWorkspace ws;  // allocated per call until the Model owns one (docs/sph.md)
+  computeParticleForces(model, dt_last, ws);
+}
+
+void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
+  Particles& pa = model.particles;
+  const std::size_t n = pa.size();
+  if (n == 0 || !(dt > 0)) return;
+  if (std::all_of(pa.body.begin(), pa.body.end(), [&](int b) { return b == pa.body[0]; }))
+    return;
+
+  // Broad phase: pairs that can come within their contact distance during the step.
+  ws.contact_radius.resize(n);
+  ws.contact_spacing.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ws.contact_spacing[i] = std::cbrt(pa.V[i]);
+    ws.contact_radius[i] = 0.5 * ws.contact_spacing[i] + dt * pa.v[i].norm();
+  }
+  ws.search.crossBodyPairs(pa.x, ws.contact_radius, pa.body, ws.contact_pairs);
+
+  // Johnson-Stryk style kinematic correction, Gauss-Seidel over the pairs in a fixed order:
+  // a pair that would end the step closer than (d_i + d_j)/2 gets the normal relative velocity
+  // that lands it at that distance (or stops its approach if already closer), shared so that
+  // momentum is conserved. Velocities only ever move apart: no pulling, no sticking. The work
+  // of these corrections is booked by the solver (correctionWork), as for walls and ties.
+  for (int pass = 0; pass < ws.controls.contact_passes; ++pass) {
+    for (const auto& [i, j] : ws.contact_pairs) {
+      const Vec3 r_ij = pa.x[i] - pa.x[j];
+      const double r = r_ij.norm();
+      if (!(r > 0)) continue;
+      const Vec3 nrm = r_ij / r;
+      const double gap = r - 0.5 * (ws.contact_spacing[i] + ws.contact_spacing[j]);
+      const double vn = (pa.v[i] - pa.v[j]).dot(nrm);
+      const double vn_min = gap > 0 ? -gap / dt : 0.0;
+      if (vn >= vn_min) continue;
+      const double mi = pa.m[i], mj = pa.m[j];
+      const double impulse = (vn_min - vn) * mi * mj / (mi + mj);
+      pa.v[i] += (impulse / mi) * nrm;
+      pa.v[j] -= (impulse / mj) * nrm;
+    }
+  }
+}
+
+void enforceParticleContact(Model& model, double dt) {
+  if (model.particles.size() == 0) return;
+  SphWorkspace ws;  // allocated per call until the Model owns one (docs/sph.md)
+  enforceParticleContact(model, dt, ws);
+}
+
+}  // namespace fesph

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+// SPH parameters and the per-step storage of the SPH layer (neighbour lists, pair kernel
+// values, per-particle tensors), kept between steps so that a step allocates nothing.
+#pragma once
+
+#include "core/common/types.hpp"
+#include "core/sph/neighbours.hpp"
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace fesph {
+
+struct Model;
+
+/// SPH numerical parameters. Defaults and their reasons are in docs/sph.md.
+struct SphControls {
+  double kappa = 1.3;         ///< h = kappa cbrt(V) for new particles (about 74 neighbours)
+  double av_alpha = 1.0;      ///< Monaghan artificial viscosity, linear term
+  double av_beta = 2.0;       ///< Monaghan artificial viscosity, quadratic term
+  bool artificial_stress = true;  ///< Monaghan 2000 tensile-instability remedy on/off
+  double as_epsilon = 0.3;    ///< artificial stress factor
+  double max_condition = 1e3; ///< cond(A) above this: plain (normalised) kernel gradient
+  int min_neighbours = 6;     ///< fewer neighbours: plain (normalised) kernel gradient
+  int as_exponent = 4;        ///< artificial stress exponent n in (W(r)/W(dp))^n
+  int contact_passes = 3;     ///< Gauss-Seidel passes of the particle-particle contact
+};
+
+/// The particle quantities one step's forces were computed from. Keeping the previous step's
+/// copy makes the kinematics and the energy bookkeeping centred in time, as the elements' are.
+struct SphSnapshot {
+  std::vector<Vec3> x, v;         ///< position x^n, velocity v^{n-1/2}
+  std::vector<double> h, V;       ///< smoothing length and volume used in the forces
+  std::vector<double> rho, c, d;  ///< density, wave speed, spacing cbrt(V)
+  std::vector<Mat3> B;            ///< first-order gradient correction
+  std::vector<Mat3> R;            ///< Monaghan artificial stress (stress units, Pa)
+  std::vector<std::uint8_t> tensile;  ///< R != 0
+  void resize(std::size_t n);
+  std::size_t size() const { return x.size(); }
+};
+
+/// Storage reused from step to step. Owned by whoever drives the steps (the Model once the
+/// lead adds it there); the SPH functions resize it as the particle count changes. Particles
+/// are assumed to keep their index between steps (new ones appended).
+struct SphWorkspace {
+  SphControls controls;
+  NeighbourSearch search;
+  NeighbourList neighbours;
+  std::vector<Vec3> pair_grad;          ///< grad_i W(x_i - x_j, h_ij) per neighbour entry, 1/m^4
+  std::vector<Vec3> pair_grad_prev;     ///< the same in the last step's configuration
+  SphSnapshot current, previous;
+  std::vector<std::uint8_t> corrected;  ///< 1: B_i = A_i^-1; 0: normalised plain gradient
+  std::vector<Mat3> velocity_grad;      ///< L_i at this step's positions, 1/s
+  std::vector<Mat3> velocity_grad_prev; ///< L_i at the last step's positions, 1/s
+  std::vector<Mat3> stress_b;           ///< sigma_i B_i, Pa
+  std::vector<double> plastic_work;     ///< per particle over the last step, J
+  std::vector<double> av_work;          ///< stabilisation heat per particle, last step, J
+  std::vector<double> contact_radius;   ///< m
+  std::vector<double> contact_spacing;  ///< m
+  std::vector<std::pair<int, int>> contact_pairs;
+};
+
+/// computeParticleForces (sph_forces.hpp) with explicit storage and parameters.
+void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws);
+
+/// enforceParticleContact (sph_forces.hpp) with explicit storage and parameters.
+void enforceParticleContact(Model& model, double dt, SphWorkspace& ws);
+
+}  // namespace fesph

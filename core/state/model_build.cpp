@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: MIT
+#include "core/state/model_build.hpp"
+
+#include "core/common/error.hpp"
+#include "core/contact/surfaces.hpp"
+
+#include <string>
+
+namespace fesph {
+
+int addBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
+            const Placement& placement, const Vec3& velocity, bool is_projectile) {
+  Nodes& nd = model.nodes;
+  Elements& el = model.elems;
+  const int b = static_cast<int>(model.bodies.size());
+  Body body;
+  body.name = name;
+  body.material = material;
+  body.is_projectile = is_projectile;
+  body.node_begin = nd.size();
+  body.elem_begin = el.size();
+  const Material& mat = model.materials.at(material);
+
+  for (const Vec3& p : mesh.nodes) {
+    const Vec3 x = placement.rotation * p + placement.translation;
+    nd.x.push_back(x);
+    nd.x0.push_back(x);
+    nd.v.push_back(velocity);
+    nd.f.push_back(Vec3::Zero());
+    nd.m.push_back(0.0);
+    nd.body.push_back(b);
+    nd.fix.push_back(0);
+  }
+  const int offset = static_cast<int>(body.node_begin);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    std::array<int, 4> c;
+    for (int k = 0; k < 4; ++k) c[k] = mesh.tets[t][k] + offset;
+    const double V = tetVolume(nd.x[c[0]], nd.x[c[1]], nd.x[c[2]], nd.x[c[3]]);
+    if (!(V > 0))
+      throw InputError("", 0, 0,
+                       "body '" + name + "': tetrahedron " + std::to_string(t) +
+                           " has non-positive volume " + std::to_string(V) + " m^3");
+    el.conn.push_back(c);
+    el.body.push_back(b);
+    el.material.push_back(material);
+    el.V0.push_back(V);
+    el.V.push_back(V);
+    el.dV.push_back(0.0);
+    el.rho.push_back(mat.rho0);
+    el.q.push_back(0.0);
+    el.dt.push_back(0.0);
+    PointState st;
+    st.T = mat.T_room;
+    el.state.push_back(st);
+    el.status.push_back(ElemStatus::Live);
+  }
+  body.node_end = nd.size();
+  body.elem_end = el.size();
+  model.bodies.push_back(body);
+  return b;
+}
+
+void finaliseModel(Model& model) {
+  Nodes& nd = model.nodes;
+  const Elements& el = model.elems;
+  std::fill(nd.m.begin(), nd.m.end(), 0.0);
+  std::vector<std::size_t> count(nd.size() + 1, 0);
+  for (std::size_t e = 0; e < el.size(); ++e) {
+    const double me = model.materials[el.material[e]].rho0 * el.V0[e];
+    for (int k = 0; k < 4; ++k) {
+      nd.m[el.conn[e][k]] += 0.25 * me;
+      ++count[el.conn[e][k] + 1];
+    }
+  }
+  // CSR node -> corners, sorted by element id: the gather order is fixed.
+  model.node_corner_offset.assign(nd.size() + 1, 0);
+  for (std::size_t a = 0; a < nd.size(); ++a)
+    model.node_corner_offset[a + 1] = model.node_corner_offset[a] + count[a + 1];
+  model.node_corners.assign(model.node_corner_offset.back(), 0);
+  std::vector<std::size_t> fill(model.node_corner_offset.begin(), model.node_corner_offset.end() - 1);
+  for (std::size_t e = 0; e < el.size(); ++e)
+    for (int k = 0; k < 4; ++k)
+      model.node_corners[fill[el.conn[e][k]]++] = static_cast<std::uint32_t>(e * 4 + k);
+
+  for (std::size_t a = 0; a < nd.size(); ++a)
+    if (nd.m[a] <= 0)
+      throw InputError("", 0, 0,
+                       "node " + std::to_string(a) + " of body '" + model.bodies[nd.body[a]].name +
+                           "' belongs to no tetrahedron");
+
+  model.corner_force.assign(el.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  model.nodal_volume.assign(nd.size(), 0.0);
+  model.nodal_volume0.assign(nd.size(), 0.0);
+
+  buildSurfaces(model);
+
+  EnergyBudget& en = model.energy;
+  en = EnergyBudget{};
+  for (std::size_t a = 0; a < nd.size(); ++a) {
+    en.kinetic_half += 0.5 * nd.m[a] * nd.v[a].squaredNorm();
+    en.momentum += nd.m[a] * nd.v[a];
+  }
+  en.kinetic = en.kinetic_half;
+  en.initial = en.total();
+}
+
+Vec3 bodyMeanVelocity(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  Vec3 p = Vec3::Zero();
+  double m = 0;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+    p += model.nodes.m[a] * model.nodes.v[a];
+    m += model.nodes.m[a];
+  }
+  return m > 0 ? Vec3(p / m) : Vec3::Zero();
+}
+
+double bodyMass(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  double m = 0;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) m += model.nodes.m[a];
+  return m;
+}
+
+}  // namespace fesph

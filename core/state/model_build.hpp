@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// Assembling a Model from meshed bodies: nodes, elements, lumped masses, the node ->
+// element-corner lists, and the initial state.
+#pragma once
+
+#include "core/mesh/mesh.hpp"
+#include "core/state/model.hpp"
+
+namespace fesph {
+
+/// Rigid placement of a body's local mesh: x = R x_local + translation.
+struct Placement {
+  Mat3 rotation = Mat3::Identity();
+  Vec3 translation = Vec3::Zero();
+};
+
+/// Append a meshed body with uniform initial velocity. Returns the body index.
+int addBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
+            const Placement& placement, const Vec3& velocity, bool is_projectile);
+
+/// Lumped masses, corner lists, scratch arrays and the initial energy. Call once after all
+/// bodies are added. Throws InputError for a degenerate mesh.
+void finaliseModel(Model& model);
+
+/// Mass-weighted mean velocity of a body's active nodes, m/s.
+Vec3 bodyMeanVelocity(const Model& model, int body);
+
+/// Mass of a body's active nodes, kg.
+double bodyMass(const Model& model, int body);
+
+}  // namespace fesph

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// ParaView time series of the solver state: one .vtu per output step (live tetrahedra) listed
+// in a .pvd collection. Every file is written under a temporary name and renamed into place.
+#pragma once
+
+#include "core/state/model.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace fesph {
+
+/// A ParaView .pvd collection of (time, file) entries. The .pvd is rewritten after every
+/// append through a temporary file and a rename, so it only ever lists complete files.
+class PvdCollection {
+ public:
+  struct Entry {
+    double time;
+    std::string file;  ///< relative to the folder of the .pvd
+  };
+
+  /// `append`: read the entries of an existing `pvd_path` back (none if it does not exist).
+  /// Otherwise start empty: an existing .pvd and the data files it lists are deleted.
+  PvdCollection(std::filesystem::path pvd_path, bool append);
+
+  /// Record `file` (a plain file name in the .pvd's folder) at `time` and rewrite the .pvd.
+  void add(double time, const std::string& file);
+
+  const std::vector<Entry>& entries() const { return entries_; }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  void save() const;
+
+  std::filesystem::path path_;
+  std::vector<Entry> entries_;
+};
+
+struct SeriesOptions {
+  /// Cell and point arrays to write (names from SeriesWriter::elementFields()); empty: all.
+  std::vector<std::string> fields;
+  /// Continue the series found in the folder (restarts) instead of starting a fresh one.
+  bool append = false;
+};
+
+/// Writes elements_NNNNNN.vtu + elements.pvd into one output folder.
+class SeriesWriter {
+ public:
+  /// Creates `folder` if missing. Throws std::invalid_argument for an unknown field name.
+  explicit SeriesWriter(std::filesystem::path folder, SeriesOptions options = {});
+
+  /// Write the live tetrahedra of `model` as output step `outputCount()` at `time` (s).
+  void write(const Model& model, double time);
+
+  /// Number of steps in the series so far (the index of the next file).
+  std::size_t outputCount() const { return elements_.entries().size(); }
+  const std::filesystem::path& folder() const { return folder_; }
+
+  /// Names accepted in SeriesOptions::fields for the element series.
+  static const std::vector<std::string>& elementFields();
+
+ private:
+  bool wants(const std::string& field) const;
+
+  std::filesystem::path folder_;
+  std::vector<std::string> fields_;
+  PvdCollection elements_;
+};
+
+}  // namespace fesph

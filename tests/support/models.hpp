@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+// Small models built in code for the solver tests.
+#pragma once
+
+#include "core/mesh/structured_box.hpp"
+#include "core/state/model_build.hpp"
+
+#include <stdexcept>
+
+namespace fesph::testing {
+
+/// Linear elastic material with a linear EOS (no strength model, no damage).
+inline Material elasticMaterial(double rho = 7850, double E = 200e9, double nu = 0.3) {
+  Material m;
+  m.name = "elastic";
+  m.rho0 = rho;
+  m.E = E;
+  m.nu = nu;
+  m.strength = StrengthModel::Elastic;
+  m.eos = EosModel::Linear;
+  const std::string err = finaliseMaterial(m);
+  if (!err.empty()) throw std::logic_error(err);
+  return m;
+}
+
+/// One body: a structured box mesh of `mat` with uniform velocity.
+inline Model boxModel(const Material& mat, const Vec3& size, int nx, int ny, int nz,
+                      const Vec3& velocity = Vec3::Zero()) {
+  Model model;
+  model.materials.push_back(mat);
+  addBody(model, "box", structuredBox(Vec3::Zero(), size, nx, ny, nz), 0, Placement{}, velocity,
+          true);
+  finaliseModel(model);
+  return model;
+}
+
+}  // namespace fesph::testing

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+// Contact broad phase against the brute force over all (slave node, face) pairs on random
+// configurations: the same candidate lists, in the same order, for any thread count.
+#include "core/contact/broad_phase.hpp"
+#include "core/contact/surfaces.hpp"
+#include "tests/support/models.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+using namespace fesph;
+
+namespace {
+
+// Three boxes at random places and sizes, nodes jiggled, random velocities, some elements
+// deleted, some nodes inactive.
+Model randomModel(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  for (int b = 0; b < 3; ++b) {
+    const Vec3 size(2e-3 + 3e-3 * u(rng), 2e-3 + 3e-3 * u(rng), 1e-3 + 3e-3 * u(rng));
+    TetMesh mesh = structuredBox(Vec3::Zero(), size, 4 + b, 5, 3 + (b + 1) % 3);
+    for (Vec3& x : mesh.nodes) x += 0.05e-3 * Vec3(u(rng), u(rng), u(rng));
+    Placement p;
+    p.rotation = Eigen::AngleAxisd(u(rng), Vec3(u(rng), u(rng), 1.0).normalized()).matrix();
+    p.translation = 3e-3 * Vec3(u(rng), u(rng), u(rng));
+    addBody(m, "box" + std::to_string(b), mesh, 0, p, Vec3::Zero(), false);
+  }
+  finaliseModel(m);
+  for (Vec3& v : m.nodes.v) v = 200.0 * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+  buildSurfaces(m);
+  for (std::size_t e = 0; e < m.elems.size(); ++e)
+    if (u(rng) < 0.15) {
+      m.elems.status[e] = ElemStatus::Eroded;
+      removeElementFromSurfaces(m, e);
+    }
+  for (double& mass : m.nodes.m)
+    if (u(rng) < 0.05) mass = 0;
+  return m;
+}
+
+// Reference: every pair tested, with the criterion of findContactCandidates' contract.
+ContactCandidates bruteForce(const Model& m, double dt, double tol_fraction) {
+  const Nodes& nd = m.nodes;
+  const Surfaces& s = m.surfaces;
+  std::vector<Vec3> flo, fhi;
+  for (const ExteriorFace& f : s.exterior) {
+    Vec3 lo = nd.x[f.node[0]], hi = lo;
+    double longest = 0;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& x = nd.x[f.node[i]];
+      const Vec3 y = x + dt * nd.v[f.node[i]];
+      lo = lo.cwiseMin(x).cwiseMin(y);
+      hi = hi.cwiseMax(x).cwiseMax(y);
+      longest = std::max(longest, (nd.x[f.node[(i + 1) % 3]] - x).norm());
+    }
+    flo.push_back(lo.array() - tol_fraction * longest);
+    fhi.push_back(hi.array() + tol_fraction * longest);
+  }
+  ContactCandidates c;
+  c.body_begin.push_back(0);
+  c.offset.push_back(0);
+  for (const std::vector<int>& list : s.slave_nodes) {
+    for (int a : list) {
+      if (!(nd.m[a] > 0)) continue;
+      c.slaves.push_back(a);
+      const Vec3 y = nd.x[a] + dt * nd.v[a];
+      const Vec3 lo = nd.x[a].cwiseMin(y), hi = nd.x[a].cwiseMax(y);
+      for (std::size_t f = 0; f < s.exterior.size(); ++f)
+        if (s.exterior[f].body != nd.body[a] && (lo.array() <= fhi[f].array()).all() &&
+            (flo[f].array() <= hi.array()).all())
+          c.faces.push_back(static_cast<int>(f));
+      c.offset.push_back(c.faces.size());
+    }
+    c.body_begin.push_back(c.slaves.size());
+  }
+  return c;
+}
+
+int threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+void setThreads(int n) {
+#ifdef _OPENMP
+  omp_set_num_threads(n);
+#else
+  (void)n;
+#endif
+}
+
+}  // namespace
+
+TEST_CASE("broad phase = brute force on random configurations", "[unit][contact]") {
+  // Reference: exhaustive pair test; exact equality of the candidate lists.
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::size_t total_pairs = 0;
+  const int default_threads = threads();
+  for (int trial = 0; trial < 20; ++trial) {
+    Model m = randomModel(rng);
+    const double dt = 1e-6 * u(rng), tol = 0.3 * u(rng);
+    const ContactCandidates ref = bruteForce(m, dt, tol);
+    for (int threads : {1, 2, 3}) {
+      setThreads(threads);
+      findContactCandidates(m, dt, tol);
+      const ContactCandidates& got = m.surfaces.candidates;
+      REQUIRE(got.slaves == ref.slaves);
+      REQUIRE(got.body_begin == ref.body_begin);
+      REQUIRE(got.offset == ref.offset);
+      REQUIRE(got.faces == ref.faces);
+    }
+    total_pairs += ref.faces.size();
+  }
+  setThreads(default_threads);
+  INFO("candidate pairs over all trials: " << total_pairs);
+  REQUIRE(total_pairs > 1000);  // the configurations do bring bodies near each other
+}

@@ -1,0 +1,392 @@
+// SPDX-License-Identifier: MIT
+// Meshing module: Gmsh plates and projectiles (volume, orientation, grading, determinism),
+// the .msh reader (valid 2.2 / 4.1 files, located errors) and the quality figures.
+#include "core/common/error.hpp"
+#include "core/mesh/mesh.hpp"
+
+#include <catch2/catch.hpp>
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace fesph;
+
+namespace {
+
+bool allPositive(const TetMesh& m) {
+  for (const auto& t : m.tets)
+    if (!(tetVolume(m.nodes[t[0]], m.nodes[t[1]], m.nodes[t[2]], m.nodes[t[3]]) > 0)) return false;
+  return true;
+}
+
+/// Every node is used by some tet (compact numbering).
+bool compact(const TetMesh& m) {
+  std::vector<bool> used(m.nodes.size(), false);
+  for (const auto& t : m.tets)
+    for (int n : t) used.at(n) = true;
+  return std::all_of(used.begin(), used.end(), [](bool u) { return u; });
+}
+
+Vec3 boxMin(const TetMesh& m) {
+  Vec3 lo = m.nodes.at(0);
+  for (const auto& x : m.nodes) lo = lo.cwiseMin(x);
+  return lo;
+}
+Vec3 boxMax(const TetMesh& m) {
+  Vec3 hi = m.nodes.at(0);
+  for (const auto& x : m.nodes) hi = hi.cwiseMax(x);
+  return hi;
+}
+
+/// Mean edge length of the tets whose centroid satisfies `select`.
+template <class Select>
+double meanEdge(const TetMesh& m, Select select) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& t : m.tets) {
+    const Vec3 c = 0.25 * (m.nodes[t[0]] + m.nodes[t[1]] + m.nodes[t[2]] + m.nodes[t[3]]);
+    if (!select(c)) continue;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) sum += (m.nodes[t[j]] - m.nodes[t[i]]).norm();
+    n += 6;
+  }
+  REQUIRE(n > 0);
+  return sum / n;
+}
+
+PlateSpec gradedHalfPlate() {  // 40 x 40 x 2 mm, fine 0.5 mm, coarse 2 mm (ratio 4)
+  PlateSpec s;
+  s.size_x = 0.04; s.size_y = 0.04; s.thickness = 0.002;
+  s.refine_radius = 0.003; s.grade_distance = 0.006;
+  s.fine_size = 0.0005; s.coarse_size = 0.002;
+  s.half = true;
+  return s;
+}
+
+ProjectileSpec projectile(NoseShape nose, bool half) {  // 10 mm x 20 mm, 1 mm elements
+  ProjectileSpec s;
+  s.diameter = 0.01; s.length = 0.02; s.nose = nose; s.crh = 2.0;
+  s.mesh_size = 0.001; s.half = half;
+  return s;
+}
+
+/// Tangent-ogive nose + cylinder volume by Simpson's rule on pi r(z)^2, where
+/// r(z) = (r - R) + sqrt(R^2 - (z - Ln)^2) on the nose, R = crh d, Ln = sqrt(R^2 - (R - r)^2).
+double ogiveVolume(double d, double crh, double length) {
+  const double r = 0.5 * d, big_r = crh * d;
+  const double nose = std::sqrt(big_r * big_r - (big_r - r) * (big_r - r));
+  const auto area = [&](double z) {
+    const double rz = (r - big_r) + std::sqrt(big_r * big_r - (z - nose) * (z - nose));
+    return M_PI * rz * rz;
+  };
+  const int n = 2000;  // even; Simpson error ~ 1e-13 relative here
+  const double h = nose / n;
+  double sum = area(0) + area(nose);
+  for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * area(i * h);
+  return sum * h / 3.0 + M_PI * r * r * (length - nose);
+}
+
+// ---- .msh helpers --------------------------------------------------------------------
+
+std::string dataFile(const std::string& name) {
+  return std::string(FESPH_TEST_DATA_DIR) + "/" + name;
+}
+
+/// Writes `text` to a per-process temporary file and returns its path.
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("fesph_test_mesh_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+/// A valid 2.2 file: a line element (ignored) and two tets sharing the face 1-2-3, the
+/// second given with negative orientation. Total volume 1/6 + 1/6 = 1/3.
+const std::vector<std::string> kSmallMsh22 = {
+    "$MeshFormat",       // line 1
+    "2.2 0 8",           // 2
+    "$EndMeshFormat",    // 3
+    "$Nodes",            // 4
+    "5",                 // 5
+    "1 0 0 0",           // 6
+    "2 1 0 0",           // 7
+    "3 0 1 0",           // 8
+    "4 0 0 1",           // 9
+    "5 0 0 -1",          // 10
+    "$EndNodes",         // 11
+    "$Elements",         // 12
+    "3",                 // 13
+    "1 1 2 0 1 1 2",     // 14
+    "2 4 2 0 1 1 2 3 4", // 15
+    "3 4 2 0 1 1 2 3 5", // 16
+    "$EndElements",      // 17
+};
+
+/// kSmallMsh22 with 1-based line `line` replaced by `text`, or cut after line `keep`.
+std::string joinLines(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const auto& l : lines) s += l + "\n";
+  return s;
+}
+std::string smallMshWith(int line, const std::string& text) {
+  auto lines = kSmallMsh22;
+  lines.at(line - 1) = text;
+  return joinLines(lines);
+}
+std::string smallMshFirst(int keep) {
+  return joinLines({kSmallMsh22.begin(), kSmallMsh22.begin() + keep});
+}
+
+/// The InputError readMsh throws for `text`; checks that its message names the file.
+InputError readError(const std::string& name, const std::string& text) {
+  const std::string path = writeTemp(name, text);
+  try {
+    readMsh(path);
+  } catch (const InputError& e) {
+    std::filesystem::remove(path);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains(path));
+    CHECK(e.file() == path);
+    return e;
+  }
+  std::filesystem::remove(path);
+  throw std::runtime_error("readMsh accepted the broken file " + name);
+}
+
+}  // namespace
+
+// ---- quality ---------------------------------------------------------------------------
+
+TEST_CASE("meshQuality of a regular tetrahedron", "[unit][mesh]") {
+  // Regular tet of edge 2 sqrt(2) inscribed in the cube [-1, 1]^3: q = 1 exactly, dihedral
+  // acos(1/3) = 70.528779 deg, V = a^3 / (6 sqrt 2) = 8/3. Tolerance: round-off.
+  const TetMesh m{{{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}}, {{0, 1, 2, 3}}};
+  REQUIRE(allPositive(m));
+  const MeshQuality q = meshQuality(m);
+  CHECK(q.nodes == 4);
+  CHECK(q.elements == 1);
+  CHECK(q.min_quality == Approx(1.0).margin(1e-12));
+  CHECK(q.mean_quality == Approx(1.0).margin(1e-12));
+  CHECK(q.min_dihedral_deg == Approx(std::acos(1.0 / 3.0) * 180.0 / M_PI).epsilon(1e-12));
+  CHECK(q.min_dihedral_deg == Approx(70.5288).margin(1e-4));
+  CHECK(q.volume == Approx(8.0 / 3.0).epsilon(1e-12));
+}
+
+// ---- plates ----------------------------------------------------------------------------
+
+TEST_CASE("meshPlate: graded half plate", "[unit][mesh]") {
+  const PlateSpec s = gradedHalfPlate();
+  const TetMesh m = meshPlate(s);
+  const MeshQuality q = meshQuality(m);
+  REQUIRE(q.elements > 0);
+  CHECK(allPositive(m));
+  CHECK(compact(m));
+  // Box volume x*y*t / 2 exactly (planar faces, no facetting): 1e-9 relative.
+  CHECK(q.volume == Approx(s.size_x * s.size_y * s.thickness / 2).epsilon(1e-9));
+  // Local frame: y in [0, size_y/2], front face z = 0, rear face z = -thickness (round-off).
+  CHECK(boxMin(m).isApprox(Vec3(-s.size_x / 2, 0, -s.thickness), 1e-12));
+  CHECK(boxMax(m).isApprox(Vec3(s.size_x / 2, s.size_y / 2, 0), 1e-12));
+  // Grading, coarse/fine = 4: edges inside the refinement zone are less than half as long as
+  // those beyond refine_radius + grade_distance (ideal ratio 1/4).
+  const auto dist = [](const Vec3& c) { return std::hypot(c.x(), c.y()); };
+  const double fine = meanEdge(m, [&](const Vec3& c) { return dist(c) < s.refine_radius; });
+  const double rim = meanEdge(
+      m, [&](const Vec3& c) { return dist(c) > s.refine_radius + s.grade_distance; });
+  CHECK(fine < 0.5 * rim);
+  CHECK(q.min_quality > 0.1);  // usable explicit-dynamics tets
+}
+
+TEST_CASE("meshPlate: full plate, offset refinement stretched along x", "[unit][mesh]") {
+  PlateSpec s;
+  s.size_x = 0.06; s.size_y = 0.03; s.thickness = 0.003;
+  s.refine_x = 0.01; s.refine_y = -0.005; s.refine_radius = 0.003; s.refine_stretch_x = 3.0;
+  s.fine_size = 0.001; s.coarse_size = 0.004; s.grade_distance = 0.005;
+  const TetMesh m = meshPlate(s);
+  const MeshQuality q = meshQuality(m);
+  CHECK(allPositive(m));
+  // Box volume x*y*t: 1e-9 relative.
+  CHECK(q.volume == Approx(s.size_x * s.size_y * s.thickness).epsilon(1e-9));
+  CHECK(boxMin(m).isApprox(Vec3(-s.size_x / 2, -s.size_y / 2, -s.thickness), 1e-12));
+  // With stretch 3, the point 2 radii from the centre along x is inside the fine zone, the one
+  // 2 radii along y is 1 radius out (size fine + 3/5 (coarse - fine)): x side must be finer.
+  const auto near = [&](double x, double y) {
+    return [=](const Vec3& c) { return std::hypot(c.x() - x, c.y() - y) < s.fine_size * 1.5; };
+  };
+  const double along_x = meanEdge(m, near(s.refine_x + 2 * s.refine_radius, s.refine_y));
+  const double along_y = meanEdge(m, near(s.refine_x, s.refine_y + 2 * s.refine_radius));
+  CHECK(along_x < along_y);
+  CHECK(q.min_quality > 0.1);
+}
+
+TEST_CASE("meshPlate rejects an inconsistent spec", "[unit][mesh]") {
+  PlateSpec s = gradedHalfPlate();
+  s.coarse_size = 0.5 * s.fine_size;
+  CHECK_THROWS_AS(meshPlate(s), InputError);
+}
+
+// ---- projectiles -----------------------------------------------------------------------
+
+TEST_CASE("meshProjectile: flat cylinder, full and half", "[unit][mesh]") {
+  const ProjectileSpec full_spec = projectile(NoseShape::Flat, false);
+  const TetMesh full = meshProjectile(full_spec);
+  const TetMesh half = meshProjectile(projectile(NoseShape::Flat, true));
+  CHECK(allPositive(full));
+  CHECK(allPositive(half));
+  const double r = 0.005, length = 0.02;
+  const double v_full = meshQuality(full).volume, v_half = meshQuality(half).volume;
+  // Analytic pi r^2 L; facetting of the 1 mm polygonal rim (r = 5 mm) costs < 1%.
+  CHECK(v_full == Approx(M_PI * r * r * length).epsilon(0.01));
+  // Half model = full / 2 within 1% (different facetting of the two meshes).
+  CHECK(v_half == Approx(v_full / 2).epsilon(0.01));
+  // Local frame: tip at z = 0, base at z = length; the half model covers y >= 0 and spans
+  // x from -r to r (revolved from +x through +y). Tolerance: round-off.
+  CHECK(boxMin(full).z() == Approx(0).margin(1e-12));
+  CHECK(boxMax(full).z() == Approx(length).epsilon(1e-12));
+  CHECK(boxMin(half).y() == Approx(0).margin(1e-12));
+  CHECK(boxMax(half).y() <= r * (1 + 1e-12));
+  CHECK(boxMax(half).y() > 0.98 * r);  // a rim node within 11 deg of +y
+  CHECK(boxMin(half).x() == Approx(-r).epsilon(1e-12));
+  CHECK(boxMax(half).x() == Approx(r).epsilon(1e-12));
+  CHECK(meshQuality(full).min_quality > 0.1);
+}
+
+TEST_CASE("meshProjectile: hemispherical nose", "[unit][mesh]") {
+  const TetMesh m = meshProjectile(projectile(NoseShape::Hemispherical, true));
+  CHECK(allPositive(m));
+  const double r = 0.005, length = 0.02;
+  // Half of (2/3 pi r^3 + pi r^2 (L - r)); facetting < 1.5%.
+  const double exact = 0.5 * (2.0 / 3.0 * M_PI * r * r * r + M_PI * r * r * (length - r));
+  CHECK(meshQuality(m).volume == Approx(exact).epsilon(0.015));
+  CHECK(boxMin(m).z() == Approx(0).margin(1e-12));
+}
+
+TEST_CASE("meshProjectile: tangent-ogive nose and cavity", "[unit][mesh]") {
+  ProjectileSpec s = projectile(NoseShape::Ogive, true);
+  const TetMesh solid = meshProjectile(s);
+  CHECK(allPositive(solid));
+  const double exact = 0.5 * ogiveVolume(s.diameter, s.crh, s.length);
+  // Half of the analytic tangent-ogive body (Simpson); facetting < 1.5%.
+  CHECK(meshQuality(solid).volume == Approx(exact).epsilon(0.015));
+  CHECK(boxMin(solid).z() == Approx(0).margin(1e-12));
+
+  s.cavity_diameter = 0.004; s.cavity_start = 0.01; s.cavity_end = 0.018;
+  const TetMesh hollow = meshProjectile(s);
+  CHECK(allPositive(hollow));
+  // Cavity pi rc^2 (end - start) / 2 subtracted from the solid body; facetting < 1.5%.
+  const double cavity = 0.5 * M_PI * 0.002 * 0.002 * (s.cavity_end - s.cavity_start);
+  CHECK(meshQuality(hollow).volume == Approx(exact - cavity).epsilon(0.015));
+  // No node inside the cavity (radius 2 mm, 10 to 18 mm), up to round-off.
+  const auto inside = [&](const Vec3& x) {
+    return std::hypot(x.x(), x.y()) < 0.002 - 1e-9 && x.z() > s.cavity_start + 1e-9 &&
+           x.z() < s.cavity_end - 1e-9;
+  };
+  CHECK(std::none_of(hollow.nodes.begin(), hollow.nodes.end(), inside));
+}
+
+TEST_CASE("Gmsh meshing is deterministic: same spec, same mesh", "[unit][mesh]") {
+  ProjectileSpec s = projectile(NoseShape::Ogive, true);
+  s.mesh_size = 0.0015;
+  const TetMesh a = meshProjectile(s);
+  const TetMesh b = meshProjectile(s);
+  // Bit-identical: node coordinates compared exactly.
+  CHECK(a.nodes == b.nodes);
+  CHECK(a.tets == b.tets);
+}
+
+TEST_CASE("Gmsh meshing leaves the OpenMP thread count alone", "[unit][mesh]") {
+  // gmsh::initialize() sets it to 1 process-wide; the solver must keep its threads.
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(3);
+  PlateSpec s = gradedHalfPlate();
+  s.fine_size = s.coarse_size;  // a coarse, quick mesh
+  meshPlate(s);
+  CHECK(omp_get_max_threads() == 3);
+  omp_set_num_threads(before);
+}
+
+// ---- .msh reader -----------------------------------------------------------------------
+
+// cube_v41.msh and cube_v22.msh: the same Gmsh 4.8.4 mesh of a 10 mm cube (coordinates in mm,
+// Mesh.MeshSizeMax = 6, Delaunay), written as 4.1 and 2.2; 45 nodes, 100 tets, plus points,
+// lines and triangles that the reader must skip.
+TEST_CASE("readMsh reads Gmsh 4.1 and 2.2 ASCII files", "[unit][mesh]") {
+  const TetMesh v41 = readMsh(dataFile("cube_v41.msh"), 1e-3);
+  const TetMesh v22 = readMsh(dataFile("cube_v22.msh"));
+  CHECK(v41.tets.size() == 100);
+  CHECK(v41.nodes.size() == 45);
+  CHECK(allPositive(v41));
+  CHECK(compact(v41));
+  // Cube volume: (10 mm)^3 = 1e-6 m^3 after scaling, 1000 mm^3 unscaled; round-off.
+  CHECK(meshQuality(v41).volume == Approx(1e-6).epsilon(1e-12));
+  CHECK(meshQuality(v22).volume == Approx(1000).epsilon(1e-12));
+  // Same mesh in both formats: same connectivity, coordinates equal up to the scale.
+  REQUIRE(v22.nodes.size() == v41.nodes.size());
+  CHECK(v22.tets == v41.tets);
+  for (std::size_t i = 0; i < v22.nodes.size(); ++i)
+    CHECK((1e-3 * v22.nodes[i] - v41.nodes[i]).norm() < 1e-15);
+}
+
+TEST_CASE("readMsh orients tets and skips other elements", "[unit][mesh]") {
+  const std::string path = writeTemp("small.msh", joinLines(kSmallMsh22));
+  const TetMesh m = readMsh(path);
+  std::filesystem::remove(path);
+  CHECK(m.tets.size() == 2);
+  CHECK(m.nodes.size() == 5);
+  CHECK(allPositive(m));                                     // the second tet was flipped
+  CHECK(meshQuality(m).volume == Approx(1.0 / 3.0).epsilon(1e-14));  // two tets of 1/6
+}
+
+TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
+  SECTION("missing file") {
+    const std::string path = dataFile("no_such_file.msh");
+    try {
+      readMsh(path);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.line() == 0);
+      CHECK_THAT(e.what(), Catch::Matchers::Contains("cannot open"));
+    }
+  }
+  SECTION("binary header") {
+    const InputError e = readError("binary.msh", smallMshWith(2, "2.2 1 8"));
+    CHECK(e.line() == 2);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("binary .msh not supported: save as ASCII"));
+  }
+  SECTION("unknown version") {
+    CHECK(readError("version.msh", smallMshWith(2, "3.0 0 8")).line() == 2);
+  }
+  SECTION("truncated file") {
+    const InputError e = readError("truncated.msh", smallMshFirst(15));
+    CHECK(e.line() == 15);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("premature end of file"));
+  }
+  SECTION("non-numeric token") {
+    const InputError e = readError("token.msh", smallMshWith(8, "3 0 abc 0"));
+    CHECK(e.line() == 8);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("'abc'"));
+  }
+  SECTION("element referencing an undefined node") {
+    const InputError e = readError("undefined.msh", smallMshWith(16, "3 4 2 0 1 1 2 3 9"));
+    CHECK(e.line() == 16);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("undefined node 9"));
+  }
+  SECTION("zero-volume tet") {  // node 5 moved into the plane of nodes 1, 2, 3
+    CHECK(readError("flat.msh", smallMshWith(10, "5 1 1 0")).line() == 16);
+  }
+  SECTION("no tetrahedra") {
+    auto lines = kSmallMsh22;
+    lines.erase(lines.begin() + 14, lines.begin() + 16);  // drop both tets
+    lines.at(12) = "1";
+    CHECK(readError("notets.msh", joinLines(lines)).line() == 12);
+  }
+  SECTION("truncated 4.1 file") {
+    std::ifstream in(dataFile("cube_v41.msh"));
+    std::string text, line;
+    for (int i = 0; i < 300 && std::getline(in, line); ++i) text += line + "\n";
+    CHECK(readError("truncated41.msh", text).line() == 300);  // inside $Elements
+  }
+}

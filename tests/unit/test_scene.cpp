@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+// Scene reading: bad input gives a located message (file, line) and exit code 2.
+#include "core/common/error.hpp"
+#include "core/scene/scene.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+using namespace fesph;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kGoodScene = R"(title = "test"
+[simulation]
+end_time = 1e-6
+[[bodies]]
+name = "bar"
+material = "steel_4340"
+velocity = [0, 0, -100]
+[bodies.shape]
+type = "projectile"
+diameter = 4e-3
+length = 8e-3
+mesh_size = 2e-3
+)";
+
+std::string writeScene(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string library() { return std::string(FESPH_SCENES_DIR) + "/materials.toml"; }
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  REQUIRE(pos != std::string::npos);
+  return text.replace(pos, from.size(), to);
+}
+
+// Run `fesph run` on a scene and return its exit code.
+int runCli(const std::string& scene) {
+  const std::string cmd = std::string(FESPH_BINARY) + " run " + scene + " --materials " +
+                          library() + " --out " +
+                          (fs::temp_directory_path() / "fesph_scene_tests_out").string() +
+                          " --quiet > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("a valid scene loads", "[unit][scene]") {
+  const Scene sc = loadScene(writeScene("good.toml", kGoodScene), {}, library());
+  REQUIRE(sc.bodies.size() == 1);
+  REQUIRE(sc.controls.end_time == 1e-6);
+  REQUIRE(sc.bodies[0].velocity.z() == -100);
+}
+
+TEST_CASE("a typo'd key is an error at its line", "[unit][scene]") {
+  const std::string path =
+      writeScene("typo.toml", replace(kGoodScene, "end_time = 1e-6", "end_tme = 1e-6"));
+  try {
+    loadScene(path, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    REQUIRE(e.file() == path);
+    REQUIRE(e.line() == 3);
+    REQUIRE(std::string(e.what()).find("did you mean 'end_time'") != std::string::npos);
+  }
+  REQUIRE(runCli(path) == 2);
+}
+
+TEST_CASE("an unknown material is an error at its line", "[unit][scene]") {
+  const std::string path =
+      writeScene("material.toml", replace(kGoodScene, "steel_4340", "unobtainium"));
+  try {
+    loadScene(path, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    REQUIRE(e.line() == 6);
+    REQUIRE(std::string(e.what()).find("unknown material 'unobtainium'") != std::string::npos);
+  }
+  REQUIRE(runCli(path) == 2);
+}
+
+TEST_CASE("a negative density is rejected before any work", "[unit][scene]") {
+  const std::string path = writeScene(
+      "density.toml", std::string(kGoodScene) + "[materials.steel_4340]\ndensity = -7850.0\n");
+  try {
+    loadScene(path, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    REQUIRE(e.line() == 14);
+    REQUIRE(std::string(e.what()).find("density") != std::string::npos);
+  }
+  REQUIRE(runCli(path) == 2);
+}
+
+TEST_CASE("impossible values are rejected with their line", "[unit][scene]") {
+  struct Case {
+    std::string from, to;
+    int line;
+  };
+  for (const Case& c : {Case{"end_time = 1e-6", "end_time = -1.0", 3},
+                        Case{"length = 8e-3", "length = 0.0", 11},
+                        Case{"velocity = [0, 0, -100]", "velocity = [0, -100]", 7}}) {
+    const std::string path = writeScene("impossible.toml", replace(kGoodScene, c.from, c.to));
+    try {
+      loadScene(path, {}, library());
+      FAIL("no error for " << c.to);
+    } catch (const InputError& e) {
+      INFO(e.what());
+      REQUIRE(e.line() == c.line);
+    }
+  }
+}
+
+TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
+  const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
+  fs::create_directories(dir);
+  std::ofstream(dir / "broken.msh") << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n";
+  const std::string path = writeScene(
+      "msh.toml", replace(kGoodScene,
+                          "type = \"projectile\"\ndiameter = 4e-3\nlength = 8e-3\nmesh_size = 2e-3",
+                          "type = \"msh\"\nfile = \"broken.msh\""));
+  const Scene sc = loadScene(path, {}, library());
+  try {
+    buildModel(sc);
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    REQUIRE(e.file().find("broken.msh") != std::string::npos);
+    REQUIRE(e.line() > 0);
+  }
+  REQUIRE(runCli(path) == 2);
+}
+
+TEST_CASE("scene overrides from the command line are checked like the file", "[unit][scene]") {
+  const std::string path = writeScene("set.toml", kGoodScene);
+  const Scene sc = loadScene(path, {"simulation.end_time=3e-6", "bodies.0.velocity=[0,0,-5]"},
+                             library());
+  REQUIRE(sc.controls.end_time == 3e-6);
+  REQUIRE(sc.bodies[0].velocity.z() == -5);
+  REQUIRE_THROWS_AS(loadScene(path, {"simulation.end_tme=3e-6"}, library()), InputError);
+  REQUIRE_THROWS_AS(loadScene(path, {"bodies.4.velocity=[0,0,-5]"}, library()), InputError);
+}
