@@ -12,7 +12,8 @@ HistoryCsv::HistoryCsv(const std::string& path, const Model& model)
     : path_(path), out_(path, std::ios::trunc) {
   if (!out_) throw RunError("cannot write history file " + path);
   out_ << "time,step,dt,kinetic,internal,plastic_work,bulk_viscosity,contact,eroded,conversion,"
-          "total,balance_error,momentum_x,momentum_y,momentum_z";
+          "total,balance_error,momentum_x,momentum_y,momentum_z,eroded_elements,eroded_mass,"
+          "converted_elements,particles";
   for (const Body& b : model.bodies)
     out_ << ',' << b.name << "_vx," << b.name << "_vy," << b.name << "_vz";
   out_ << '\n';
@@ -32,6 +33,9 @@ void HistoryCsv::record(const Model& model) {
                    en.contact, en.eroded, en.conversion, en.total(), en.balanceError(),
                    en.momentum.x(), en.momentum.y(), en.momentum.z()})
     put(x);
+  out_ << ',' << model.conversion.eroded;
+  put(model.conversion.eroded_mass);
+  out_ << ',' << model.conversion.converted << ',' << model.particles.size();
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     const Vec3 v = bodyMeanVelocity(model, static_cast<int>(b));
     put(v.x());

@@ -86,6 +86,34 @@ void readSimulation(const toml::table& t, const std::string& file, Scene& sc) {
   sc.half = choice(t, "symmetry", file, {"none", "half"}, std::string("none")) == "half";
 }
 
+void readContact(const toml::table* t, const std::string& file, Scene& sc) {
+  if (!t) return;
+  allowKeys(*t, file, {"passes", "friction", "depth_tolerance"}, "[contact]");
+  ContactControls& c = sc.controls.contact;
+  const long passes = integer(*t, "passes", file, c.passes);
+  if (passes < 1 || passes > 10) fail(file, where(*t, "passes"), "'passes' must be 1 to 10");
+  c.passes = static_cast<int>(passes);
+  c.friction = positive(*t, "friction", file, c.friction, true);
+  c.depth_tolerance = positive(*t, "depth_tolerance", file, c.depth_tolerance);
+}
+
+void readConversion(const toml::table* t, const std::string& file, Scene& sc) {
+  if (!t) return;
+  allowKeys(*t, file,
+            {"mode", "plastic_strain", "min_volume_ratio", "max_volume_ratio", "min_dt_ratio"},
+            "[conversion]");
+  ConversionControls& c = sc.controls.conversion;
+  const std::string mode = choice(*t, "mode", file, {"none", "erosion"}, std::string("none"));
+  c.mode = mode == "erosion" ? ConversionMode::Erosion : ConversionMode::None;
+  c.plastic_strain = positive(*t, "plastic_strain", file, c.plastic_strain);
+  c.min_volume_ratio = positive(*t, "min_volume_ratio", file, c.min_volume_ratio);
+  c.max_volume_ratio = positive(*t, "max_volume_ratio", file, c.max_volume_ratio);
+  if (c.max_volume_ratio <= 1 || c.min_volume_ratio >= 1)
+    fail(file, t->source(), "volume ratios must satisfy min_volume_ratio < 1 < max_volume_ratio");
+  c.min_dt_ratio = positive(*t, "min_dt_ratio", file, c.min_dt_ratio);
+  if (c.min_dt_ratio >= 1) fail(file, where(*t, "min_dt_ratio"), "'min_dt_ratio' must be < 1");
+}
+
 void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
   OutputSpec& o = sc.output;
   o.folder = "runs/" + fs::path(file).stem().string();
@@ -266,11 +294,15 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
     sc.text += "\n# --set " + o;
   }
   const std::string& file = path;
-  allowKeys(root, file, {"title", "simulation", "output", "materials", "bodies", "boundary"},
+  allowKeys(root, file,
+            {"title", "simulation", "output", "contact", "conversion", "materials", "bodies",
+             "boundary"},
             "the scene");
   sc.title = string(root, "title", file, fs::path(path).stem().string());
   readSimulation(*table(root, "simulation", file, true), file, sc);
   readOutput(table(root, "output", file), file, sc);
+  readContact(table(root, "contact", file), file, sc);
+  readConversion(table(root, "conversion", file), file, sc);
 
   const std::string lib_path =
       material_library.empty() ? findMaterialLibrary(fs::path(path).parent_path())

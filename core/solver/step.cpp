@@ -3,6 +3,7 @@
 
 #include "core/common/error.hpp"
 #include "core/contact/node_face_contact.hpp"
+#include "core/conversion/erosion.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/solver/boundary.hpp"
 #include "core/sph/sph_forces.hpp"
@@ -122,14 +123,18 @@ double correctionWork(const Model& model, double dt_avg) {
   return work;
 }
 
-void recordEnergyBudget(Model& model) {
+void recordEnergyBudget(Model& model, double dissipated) {
   // Kinetic energy at t^n: the mean of the half steps around it (both after corrections).
+  // A correction acts as a force at t^n over [t^{n-1/2}, t^{n+1/2}]: half of its work falls
+  // before t^n (none at the first step, whose interval starts at t^0).
   const KineticSums half = kineticSums(model);
   if (!std::isfinite(half.energy)) reportNonFinite(model);
   EnergyBudget& en = model.energy;
   en.kinetic = model.step == 0 ? en.kinetic_half : 0.5 * (en.kinetic_half + half.energy);
   en.kinetic_half = half.energy;
   en.momentum = half.momentum;
+  en.contact = en.contact_through_half + (model.step == 0 ? 0.0 : 0.5 * dissipated);
+  en.contact_through_half += dissipated;
   en.time = model.time;
 }
 
@@ -157,6 +162,7 @@ void integratePositions(Model& model, double dt) {
 
 void step(Model& model, double t_stop) {
   const double dt_last = model.dt;
+  if (model.controls.conversion.mode == ConversionMode::Erosion) erodeElements(model);
   computeElementForces(model, dt_last);   // stress and forces at t^n
   computeParticleForces(model, dt_last);  // SPH within each body, at t^n
   const double dt = stableTimeStep(model, t_stop);
@@ -170,9 +176,9 @@ void step(Model& model, double t_stop) {
   enforceRigidWalls(model, dt);
   enforceNodeFaceContact(model, dt, model.controls.contact);  // element bodies, both ways
   enforceParticleContact(model, dt);      // particles of different bodies: compression only
-  model.energy.contact -= correctionWork(model, dt_avg);
+  const double dissipated = -correctionWork(model, dt_avg);
 
-  recordEnergyBudget(model);              // budget at t^n
+  recordEnergyBudget(model, dissipated);  // budget at t^n
   integratePositions(model, dt);          // x^{n+1}
   model.time += dt;
   model.dt = dt;

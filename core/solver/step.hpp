@@ -21,8 +21,8 @@ void integrateVelocities(Model& model, double dt_avg);
 /// they dissipate. Compares the velocities with model.v_node_free / v_particle_free.
 double correctionWork(const Model& model, double dt_avg);
 
-/// Energy budget at t^n (after the corrections of v^{n+1/2}).
-void recordEnergyBudget(Model& model);
+/// Energy budget at t^n (after the corrections of v^{n+1/2}, which dissipated `dissipated`).
+void recordEnergyBudget(Model& model, double dissipated);
 
 /// x^{n+1} = x^n + dt v^{n+1/2}.
 void integratePositions(Model& model, double dt);

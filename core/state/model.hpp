@@ -40,6 +40,7 @@ struct Elements {
   std::vector<double> rho;               ///< current density, kg/m^3
   std::vector<double> q;                 ///< bulk viscosity pressure, Pa
   std::vector<double> dt;                ///< stable time step estimate, s
+  std::vector<double> dt0;               ///< stable time step estimate at the first step, s
   std::vector<PointState> state;         ///< stress and history variables
   std::vector<ElemStatus> status;
   std::size_t size() const { return conn.size(); }
@@ -99,6 +100,7 @@ struct EnergyBudget {
   double artificial_viscosity = 0;  ///< work of the SPH artificial viscosity (in `internal`)
   double plastic_work = 0;    ///< plastic work (included in `internal`)
   double contact = 0;         ///< energy dissipated by kinematic contact, ties and walls
+  double contact_through_half = 0;  ///< the same, through the last half step t^{n+1/2}
   double eroded = 0;          ///< kinetic + internal energy of deleted elements
   double conversion = 0;      ///< kinetic energy jump of element -> particle conversion
   double initial = 0;         ///< total at t = 0
@@ -122,9 +124,29 @@ struct ContactControls {
   double depth_tolerance = 0.2;
 };
 
+/// What happens to elements that fail or distort ([conversion] in a scene).
+enum class ConversionMode { None, Erosion, Sph };
+struct ConversionControls {
+  ConversionMode mode = ConversionMode::None;
+  double plastic_strain = 0.4;  ///< eps_p at which an element erodes or converts
+  // Safety triggers, so a run never dies of a distorted element (counted apart):
+  double min_volume_ratio = 0.05;  ///< V/V0 below this
+  double max_volume_ratio = 20.0;  ///< V/V0 above this
+  double min_dt_ratio = 0.1;       ///< element stable step below this fraction of its first
+};
+
+/// Counts of what the conversion layer did.
+struct ConversionStats {
+  long eroded = 0;      ///< elements deleted (erosion mode)
+  long converted = 0;   ///< elements turned into particles (sph mode)
+  long by_safety = 0;   ///< of those, triggered by a safety criterion
+  double eroded_mass = 0;  ///< kg removed by erosion
+};
+
 /// Solver controls read from the scene.
 struct SolverControls {
   ContactControls contact;
+  ConversionControls conversion;
   double end_time = 0;
   double courant = 0.5;          ///< fraction of the element stable step
   double bulk_linear = 0.06;     ///< linear bulk viscosity coefficient
@@ -144,6 +166,7 @@ struct Model {
   Surfaces surfaces;  ///< exterior faces of every body, for contact
   SolverControls controls;
   EnergyBudget energy;
+  ConversionStats conversion;
 
   // Node -> element-corner lists (CSR) for the deterministic force gather and nodal averages.
   std::vector<std::size_t> node_corner_offset;  ///< size nodes+1

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: MIT
+// When an element stops being an element: the plastic-strain criterion of the paper, full
+// damage, and safety criteria that catch a distorting element before it inverts.
+#pragma once
+
+#include "core/state/model.hpp"
+
+namespace fesph {
+
+enum class Trigger { None, PlasticStrain, Damage, Safety };
+
+/// Why live element e should erode or convert now (None: it stays). Uses the state after the
+/// last material update: eps_p, damage, V/V0 and the stable step against its first value.
+Trigger elementTrigger(const Model& model, std::size_t e);
+
+}  // namespace fesph
