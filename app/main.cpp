@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // fesph: projectiles perforating spaced multi-layer plates with adaptive FE-SPH coupling.
 // Sub-commands:
-//   run SCENE   mesh and run a scene, writing a ParaView series and histories
+//   run SCENE      mesh and run a scene, writing a ParaView series, histories and images
+//   render RUN_DIR draw the report images of a finished run
 #include "app/commands.hpp"
 
 #include <CLI/CLI.hpp>
@@ -30,6 +31,17 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--materials", run.materials,
                       "Material library (default: materials.toml found above the scene)");
   run_cmd->add_flag("--quiet", run.quiet, "No progress display");
+  run_cmd->add_flag("--no-images", run.no_images, "Do not render images at the end");
+
+  fesph::RenderOptions render;
+  CLI::App* render_cmd =
+      app.add_subcommand("render", "Draw plate images, section, velocity plot and hole metrics");
+  render_cmd->add_option("run_dir", render.run_dir, "Run folder (holds elements.pvd)")
+      ->required()->check(CLI::ExistingDirectory);
+  render_cmd->add_option("--time", render.times, "Output time(s) in s (default: the last)");
+  render_cmd->add_option("--field", render.field, "Cell field to colour by (default damage)");
+  render_cmd->add_option("--size", render.size, "Image size WxH in pixels (default 1600x1200)");
+  render_cmd->add_option("--out", render.out, "Image folder (default RUN_DIR/images)");
 
   try {
     app.parse(argc, argv);
@@ -38,5 +50,6 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   if (*run_cmd) return fesph::runCommand(run);
+  if (*render_cmd) return fesph::renderCommand(render);
   return 2;
 }

@@ -142,6 +142,15 @@ int runCommand(const RunOptions& opt) {
   const double wall_total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   printSummary(model, wall_solver, wall_total, element_steps, folder);
+  if (!opt.no_images) {
+    // A failed image must not fail a finished run: warn and keep the exit code.
+    std::printf("Images\n");
+    try {
+      renderRun(folder, -1.0, "damage", 1600, 1200, folder + "/images");
+    } catch (const RunError& e) {
+      std::fprintf(stderr, "warning: images not drawn: %s\n", e.what());
+    }
+  }
   return code;
 }
 

@@ -14,8 +14,10 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 #include <vtkXMLWriter.h>
 
@@ -23,6 +25,7 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -231,7 +234,8 @@ const std::vector<std::string>& SeriesWriter::elementFields() { return kElementF
 SeriesWriter::SeriesWriter(fs::path folder, SeriesOptions options)
     : folder_(createdFolder(std::move(folder))),
       fields_(checkedFields(std::move(options.fields))),
-      elements_(folder_ / "elements.pvd", options.append) {}
+      elements_(folder_ / "elements.pvd", options.append),
+      particles_(folder_ / "particles.pvd", options.append) {}
 
 bool SeriesWriter::wants(const std::string& field) const {
   return fields_.empty() || std::find(fields_.begin(), fields_.end(), field) != fields_.end();
@@ -346,6 +350,58 @@ void SeriesWriter::write(const Model& model, double time) {
   writer->SetInputData(grid);
   writeXml(*writer, folder_ / file);
   elements_.add(time, file);
+  writeParticles(model, time);
+}
+
+void SeriesWriter::writeParticles(const Model& model, double time) {
+  const Particles& pa = model.particles;
+  const auto n = static_cast<vtkIdType>(pa.size());
+  vtkNew<vtkPolyData> poly;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  vtkNew<vtkCellArray> verts;
+  for (vtkIdType i = 0; i < n; ++i) {
+    points->SetPoint(i, pa.x[i].x(), pa.x[i].y(), pa.x[i].z());
+    verts->InsertNextCell(1, &i);
+  }
+  poly->SetPoints(points);
+  poly->SetVerts(verts);
+
+  vtkPointData* pd = poly->GetPointData();
+  auto scalar = [&](const char* name, auto value) {
+    vtkNew<vtkDoubleArray> a = doubleArray(name, 1, n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetValue(i, value(i));
+    pd->AddArray(a);
+  };
+  scalar("radius", [&](vtkIdType i) { return 0.5 * std::cbrt(pa.V[i]); });
+  scalar("mass", [&](vtkIdType i) { return pa.m[i]; });
+  scalar("density", [&](vtkIdType i) { return pa.rho[i]; });
+  scalar("plastic_strain", [&](vtkIdType i) { return pa.state[i].eps_p; });
+  scalar("damage", [&](vtkIdType i) { return pa.state[i].damage; });
+  scalar("pressure", [&](vtkIdType i) { return pa.state[i].p; });
+  scalar("temperature", [&](vtkIdType i) { return pa.state[i].T; });
+  scalar("tied", [&](vtkIdType i) { return pa.tie[i].active() ? 1.0 : 0.0; });
+  vtkNew<vtkDoubleArray> vel = doubleArray("velocity", 3, n);
+  for (vtkIdType i = 0; i < n; ++i) vel->SetTuple3(i, pa.v[i].x(), pa.v[i].y(), pa.v[i].z());
+  pd->AddArray(vel);
+  vtkNew<vtkIntArray> body;
+  body->SetName("body");
+  body->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) body->SetValue(i, pa.body[i]);
+  pd->AddArray(body);
+  vtkNew<vtkTypeInt64Array> parent;
+  parent->SetName("parent_element");
+  parent->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) parent->SetValue(i, pa.parent[i]);
+  pd->AddArray(parent);
+  addTimeValue(*poly, time);
+
+  const std::string file = indexedName("particles", particles_.entries().size(), "vtp");
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(poly);
+  writeXml(*writer, folder_ / file);
+  particles_.add(time, file);
 }
 
 }  // namespace fesph

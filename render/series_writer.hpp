@@ -45,7 +45,8 @@ struct SeriesOptions {
   bool append = false;
 };
 
-/// Writes elements_NNNNNN.vtu + elements.pvd into one output folder.
+/// Writes elements_NNNNNN.vtu + elements.pvd and particles_NNNNNN.vtp + particles.pvd (one
+/// vertex cell per particle; an empty but valid file while there are none) into one folder.
 class SeriesWriter {
  public:
   /// Creates `folder` if missing. Throws std::invalid_argument for an unknown field name.
@@ -63,10 +64,12 @@ class SeriesWriter {
 
  private:
   bool wants(const std::string& field) const;
+  void writeParticles(const Model& model, double time);
 
   std::filesystem::path folder_;
   std::vector<std::string> fields_;
   PvdCollection elements_;
+  PvdCollection particles_;
 };
 
 }  // namespace fesph

@@ -21,13 +21,9 @@ double retireElement(Model& model, std::size_t e, ElemStatus status) {
   return kinetic;
 }
 
-long erodeElements(Model& model) {
+void erodeElement(Model& model, std::size_t e, Trigger why) {
   Elements& el = model.elems;
-  long count = 0;
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    if (el.status[e] != ElemStatus::Live) continue;
-    const Trigger why = elementTrigger(model, e);
-    if (why == Trigger::None) continue;
+  {
     const double mass = model.materials[el.material[e]].rho0 * el.V0[e];
     const double kinetic = retireElement(model, e, ElemStatus::Eroded);
     // The half-step kinetic energy the budget carries loses the same amount, so the
@@ -37,6 +33,16 @@ long erodeElements(Model& model) {
     model.conversion.eroded_mass += mass;
     ++model.conversion.eroded;
     if (why == Trigger::Safety) ++model.conversion.by_safety;
+  }
+}
+
+long erodeElements(Model& model) {
+  long count = 0;
+  for (std::size_t e = 0; e < model.elems.size(); ++e) {
+    if (model.elems.status[e] != ElemStatus::Live) continue;
+    const Trigger why = elementTrigger(model, e);
+    if (why == Trigger::None) continue;
+    erodeElement(model, e, why);
     ++count;
   }
   return count;

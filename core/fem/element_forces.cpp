@@ -2,9 +2,11 @@
 #include "core/fem/element_forces.hpp"
 
 #include "core/common/error.hpp"
+#include "core/conversion/convert.hpp"
 #include "core/fem/tet4.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace fesph {
@@ -15,15 +17,16 @@ std::array<Vec3, 4> gatherNodes(const std::vector<Vec3>& field, const std::array
   return {field[c[0]], field[c[1]], field[c[2]], field[c[3]]};
 }
 
-[[noreturn]] void invertedElement(const Model& model, std::size_t e, double volume) {
+[[noreturn]] void invertedElement(const Model& model, std::size_t e) {
   const Body& b = model.bodies[model.elems.body[e]];
   throw RunError("element " + std::to_string(e) + " of body '" + b.name +
-                 "' inverted (volume " + std::to_string(volume) + " m^3) at t = " +
-                 std::to_string(model.time) + " s");
+                 "' inverted at t = " + std::to_string(model.time) +
+                 " s (no conversion or erosion mode to catch it)");
 }
 
 // Pass A: strain rate at the midpoint configuration of the last interval, deviatoric update,
-// new volume. Returns the plastic work of the element over the interval (J).
+// new volume. Returns the plastic work of the element over the interval (J), or NaN when the
+// element has inverted (its state is left as it was).
 double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   Elements& el = model.elems;
   const Nodes& nd = model.nodes;
@@ -37,7 +40,7 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   for (int a = 0; a < 4; ++a) xm[a] = x[a] - 0.5 * dt * v[a];
   const TetGeometry gm = tetGeometry(xm[0], xm[1], xm[2], xm[3]);
   const TetGeometry gn = tetGeometry(x[0], x[1], x[2], x[3]);
-  if (!(gn.volume > 0) || !(gm.volume > 0)) invertedElement(model, e, gn.volume);
+  if (!(gn.volume > 0) || !(gm.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
 
   const Mat3 L = velocityGradient(v, gm.grad);
   const Sym D = Sym::fromMatrix(L);
@@ -77,10 +80,26 @@ void computeElementForces(Model& model, double dt_last) {
   const std::size_t ne = el.size();
 
   double plastic_sum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : plastic_sum)
+  bool any_inverted = false;
+#pragma omp parallel for schedule(static) reduction(+ : plastic_sum) reduction(|| : any_inverted)
   for (std::size_t e = 0; e < ne; ++e) {
     if (el.status[e] != ElemStatus::Live) continue;
-    plastic_sum += updateKinematicsAndDeviator(model, e, dt_last);
+    const double wp = updateKinematicsAndDeviator(model, e, dt_last);
+    if (std::isnan(wp)) {
+      el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
+      any_inverted = true;
+    } else {
+      plastic_sum += wp;
+    }
+  }
+  // An element that inverted within one step escaped the safety triggers: in a conversion or
+  // erosion run it goes the same way as a failed element (counted as safety), otherwise the
+  // run stops naming it. Serial and in element order, so the result is reproducible.
+  if (any_inverted) {
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (el.status[e] != ElemStatus::Live || el.dt[e] >= 0) continue;
+      if (!retireInvertedElement(model, e)) invertedElement(model, e);
+    }
   }
 
   // Pass B: nodal volumes over live elements (average nodal pressure, Bonet & Burton 1998).

@@ -3,6 +3,7 @@
 
 #include "core/common/toml_check.hpp"
 #include "core/material/library.hpp"
+#include "core/sph/particle_body.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -103,8 +104,10 @@ void readConversion(const toml::table* t, const std::string& file, Scene& sc) {
             {"mode", "plastic_strain", "min_volume_ratio", "max_volume_ratio", "min_dt_ratio"},
             "[conversion]");
   ConversionControls& c = sc.controls.conversion;
-  const std::string mode = choice(*t, "mode", file, {"none", "erosion"}, std::string("none"));
-  c.mode = mode == "erosion" ? ConversionMode::Erosion : ConversionMode::None;
+  const std::string mode =
+      choice(*t, "mode", file, {"none", "erosion", "sph"}, std::string("none"));
+  c.mode = mode == "erosion" ? ConversionMode::Erosion
+                             : mode == "sph" ? ConversionMode::Sph : ConversionMode::None;
   c.plastic_strain = positive(*t, "plastic_strain", file, c.plastic_strain);
   c.min_volume_ratio = positive(*t, "min_volume_ratio", file, c.min_volume_ratio);
   c.max_volume_ratio = positive(*t, "max_volume_ratio", file, c.max_volume_ratio);
@@ -207,9 +210,9 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
   SceneBody b;
   b.name = string(t, "name", file);
   b.material = string(t, "material", file);
-  // "sph" (a body made of particles from the start) arrives with the SPH layer.
-  choice(t, "discretisation", file, {"fem"}, std::string("fem"));
-  b.discretisation = Discretisation::Fem;
+  b.discretisation = choice(t, "discretisation", file, {"fem", "sph"}, std::string("fem")) == "sph"
+                         ? Discretisation::Sph
+                         : Discretisation::Fem;
   b.projectile = boolean(t, "projectile", file, false);
   b.velocity = vec3(t, "velocity", file, Vec3::Zero());
   b.placement = readPlacement(t, file);
@@ -388,7 +391,11 @@ Model buildModel(const Scene& sc, std::ostream* log) {
            << " tets, shape quality min " << q.min_quality << " mean " << q.mean_quality
            << ", min dihedral " << q.min_dihedral_deg << " deg\n";
     }
-    addBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile);
+    if (b.discretisation == Discretisation::Sph)  // one particle per tet, from the start
+      addParticleBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile,
+                      model.sph.controls.kappa);
+    else
+      addBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile);
     meshes.push_back(std::move(mesh));
   }
   for (const FixedBoundary& f : sc.fixed) {
@@ -398,10 +405,11 @@ Model buildModel(const Scene& sc, std::ostream* log) {
         sc.bodies.begin());
     const Body& b = model.bodies[body];
     if (f.where == "rim") {
-      if (const auto* p = std::get_if<PlateSpec>(&sc.bodies[body].shape))
+      const auto* p = std::get_if<PlateSpec>(&sc.bodies[body].shape);
+      if (p && sc.bodies[body].discretisation == Discretisation::Fem)
         fixPlateRim(model, body, meshes[body], *p);
       else
-        throw InputError(sc.path, 0, 0, "'where = \"rim\"' needs a plate body: " + f.body);
+        throw InputError(sc.path, 0, 0, "'where = \"rim\"' needs a plate of elements: " + f.body);
     } else {
       for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
         const Vec3& x = model.nodes.x[a];

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/solver/boundary.hpp"
 
+#include <cmath>
+
 namespace fesph {
 
 void applyFixedVelocities(Model& model) {
@@ -31,6 +33,14 @@ void enforceRigidWalls(Model& model, double dt) {
         if (vt_norm > 0) v -= std::min(1.0, w.friction * dvn / vt_norm) * vt;
       }
       nd.v[a] = v;
+    }
+    // Particles keep half their spacing cbrt(V) off the wall (frictionless).
+    Particles& pa = model.particles;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      const double gap_next =
+          (pa.x[i] + dt * pa.v[i] - w.point).dot(w.normal) - 0.5 * std::cbrt(pa.V[i]);
+      if (gap_next < 0) pa.v[i] -= (gap_next / dt) * w.normal;
     }
   }
 }

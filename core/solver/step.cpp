@@ -3,7 +3,10 @@
 
 #include "core/common/error.hpp"
 #include "core/contact/node_face_contact.hpp"
+#include "core/conversion/convert.hpp"
 #include "core/conversion/erosion.hpp"
+#include "core/conversion/particle_face_contact.hpp"
+#include "core/conversion/ties.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/solver/boundary.hpp"
 #include "core/sph/sph_forces.hpp"
@@ -162,7 +165,12 @@ void integratePositions(Model& model, double dt) {
 
 void step(Model& model, double t_stop) {
   const double dt_last = model.dt;
-  if (model.controls.conversion.mode == ConversionMode::Erosion) erodeElements(model);
+  switch (model.controls.conversion.mode) {  // on the state the last step left
+    case ConversionMode::Erosion: erodeElements(model); break;
+    case ConversionMode::Sph: convertElements(model, model.sph.controls.kappa); break;
+    case ConversionMode::None: break;
+  }
+  releaseTies(model);
   computeElementForces(model, dt_last);   // stress and forces at t^n
   computeParticleForces(model, dt_last);  // SPH within each body, at t^n
   const double dt = stableTimeStep(model, t_stop);
@@ -175,6 +183,8 @@ void step(Model& model, double t_stop) {
   model.v_particle_free = model.particles.v;
   enforceRigidWalls(model, dt);
   enforceNodeFaceContact(model, dt, model.controls.contact);  // element bodies, both ways
+  enforceParticleFaceContact(model, dt, model.controls.contact.passes);
+  enforceTies(model, model.controls.contact.passes);  // converted particles stay coupled
   enforceParticleContact(model, dt);      // particles of different bodies: compression only
   const double dissipated = -correctionWork(model, dt_avg);
 

@@ -273,9 +273,7 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
 }
 
 void computeParticleForces(Model& model, double dt_last) {
-  if (model.particles.size() == 0) return;
-  SphWorkspace ws;  // allocated per call until the Model owns one (docs/sph.md)
-  computeParticleForces(model, dt_last, ws);
+  computeParticleForces(model, dt_last, model.sph);
 }
 
 void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
@@ -318,9 +316,7 @@ void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
 }
 
 void enforceParticleContact(Model& model, double dt) {
-  if (model.particles.size() == 0) return;
-  SphWorkspace ws;  // allocated per call until the Model owns one (docs/sph.md)
-  enforceParticleContact(model, dt, ws);
+  enforceParticleContact(model, dt, model.sph);
 }
 
 }  // namespace fesph

@@ -17,7 +17,7 @@ void computeParticleForces(Model& model, double dt_last);
 
 /// Particles of different bodies must not interpenetrate but never stick: momentum-conserving
 /// velocity corrections on approaching pairs closer than their contact distance.
-/// Energy removed is booked in model.energy.contact.
+/// Their work is booked by the step (correctionWork).
 void enforceParticleContact(Model& model, double dt);
 
 }  // namespace fesph

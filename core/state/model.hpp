@@ -5,6 +5,7 @@
 
 #include "core/common/types.hpp"
 #include "core/material/material.hpp"
+#include "core/sph/sph_workspace.hpp"
 #include "core/state/surfaces.hpp"
 
 #include <array>
@@ -164,6 +165,7 @@ struct Model {
   std::vector<Material> materials;
   std::vector<RigidWall> walls;
   Surfaces surfaces;  ///< exterior faces of every body, for contact
+  SphWorkspace sph;   ///< SPH parameters and the storage reused from step to step
   SolverControls controls;
   EnergyBudget energy;
   ConversionStats conversion;

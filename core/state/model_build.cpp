@@ -101,8 +101,34 @@ void finaliseModel(Model& model) {
     en.kinetic_half += 0.5 * nd.m[a] * nd.v[a].squaredNorm();
     en.momentum += nd.m[a] * nd.v[a];
   }
+  const Particles& pa = model.particles;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    en.kinetic_half += 0.5 * pa.m[i] * pa.v[i].squaredNorm();
+    en.momentum += pa.m[i] * pa.v[i];
+    en.internal += pa.m[i] * pa.state[i].e;
+  }
   en.kinetic = en.kinetic_half;
   en.initial = en.total();
+}
+
+std::size_t appendParticle(Particles& pa, const Vec3& x, const Vec3& v, double m, double V,
+                           double d0, double h, const PointState& st, int body, int material,
+                           int parent) {
+  pa.x.push_back(x);
+  pa.v.push_back(v);
+  pa.f.push_back(Vec3::Zero());
+  pa.m.push_back(m);
+  pa.V.push_back(V);
+  pa.rho.push_back(m / V);
+  pa.h.push_back(h);
+  pa.d0.push_back(d0);
+  pa.dt.push_back(0.0);
+  pa.state.push_back(st);
+  pa.body.push_back(body);
+  pa.material.push_back(material);
+  pa.parent.push_back(parent);
+  pa.tie.push_back(Tie{});
+  return pa.size() - 1;
 }
 
 Vec3 bodyMeanVelocity(const Model& model, int body) {
@@ -113,6 +139,12 @@ Vec3 bodyMeanVelocity(const Model& model, int body) {
     p += model.nodes.m[a] * model.nodes.v[a];
     m += model.nodes.m[a];
   }
+  const Particles& pa = model.particles;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa.body[i] != body) continue;
+    p += pa.m[i] * pa.v[i];
+    m += pa.m[i];
+  }
   return m > 0 ? Vec3(p / m) : Vec3::Zero();
 }
 
@@ -120,6 +152,9 @@ double bodyMass(const Model& model, int body) {
   const Body& b = model.bodies[body];
   double m = 0;
   for (std::size_t a = b.node_begin; a < b.node_end; ++a) m += model.nodes.m[a];
+  const Particles& pa = model.particles;
+  for (std::size_t i = 0; i < pa.size(); ++i)
+    if (pa.body[i] == body) m += pa.m[i];
   return m;
 }
 

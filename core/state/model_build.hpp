@@ -22,10 +22,16 @@ int addBody(Model& model, const std::string& name, const TetMesh& mesh, int mate
 /// bodies are added. Throws InputError for a degenerate mesh.
 void finaliseModel(Model& model);
 
-/// Mass-weighted mean velocity of a body's active nodes, m/s.
+/// Append one particle (mass m, volume V, diameter at birth d0, smoothing length h).
+/// Returns its index.
+std::size_t appendParticle(Particles& pa, const Vec3& x, const Vec3& v, double m, double V,
+                           double d0, double h, const PointState& st, int body, int material,
+                           int parent);
+
+/// Mass-weighted mean velocity of a body's active nodes and particles, m/s.
 Vec3 bodyMeanVelocity(const Model& model, int body);
 
-/// Mass of a body's active nodes, kg.
+/// Mass of a body's active nodes and particles, kg.
 double bodyMass(const Model& model, int body);
 
 }  // namespace fesph

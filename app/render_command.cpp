@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+// `fesph render`: report images of an existing run folder, drawn off-screen (OSMesa).
+#include "app/commands.hpp"
+
+#include "core/analysis/hole_metrics.hpp"
+#include "core/common/error.hpp"
+#include "render/plate_images.hpp"
+#include "render/section_view.hpp"
+#include "render/velocity_plot.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace fesph {
+
+namespace fs = std::filesystem;
+
+void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
+               int height, const std::string& out_dir) {
+  ImageOptions o;
+  o.width = width;
+  o.height = height;
+  o.field = field;
+  fs::create_directories(out_dir);
+  const std::vector<PlateImages> plates = renderPlateImages(run_dir, time, o, out_dir);
+  std::vector<PlateHoles> holes;
+  for (const PlateImages& p : plates) {
+    holes.push_back(p.holes);
+    std::printf("  %s: %s, %s (%zu through-holes)\n", p.plate.c_str(), p.front_png.c_str(),
+                p.rear_png.c_str(), p.holes.holes.size());
+  }
+  std::printf("  section: %s\n", renderSectionView(run_dir, time, o, out_dir + "/section.png").c_str());
+  std::printf("  velocity: %s\n",
+              renderVelocityPlot({{fs::path(run_dir).filename().string(), run_dir + "/history.csv"}},
+                                 "", out_dir + "/velocity.png", o)
+                  .c_str());
+  writeHolesCsv(out_dir + "/holes.csv", holes);
+  writeHolesJson(out_dir + "/holes.json", holes);
+}
+
+int renderCommand(const RenderOptions& opt) {
+  int width = 0, height = 0;
+  if (std::sscanf(opt.size.c_str(), "%dx%d", &width, &height) != 2 || width < 64 ||
+      height < 64 || width > 8192 || height > 8192) {
+    std::fprintf(stderr, "error: --size must be WxH with 64..8192 pixels each, got '%s'\n",
+                 opt.size.c_str());
+    return 2;
+  }
+  if (!fs::exists(fs::path(opt.run_dir) / "elements.pvd")) {
+    std::fprintf(stderr, "error: %s is not a run folder (no elements.pvd)\n", opt.run_dir.c_str());
+    return 2;
+  }
+  const std::string out = opt.out.empty() ? opt.run_dir + "/images" : opt.out;
+  try {
+    if (opt.times.empty()) {
+      renderRun(opt.run_dir, -1.0, opt.field, width, height, out);
+    } else {
+      for (double t : opt.times) {
+        char sub[64];
+        std::snprintf(sub, sizeof sub, "/t_%.6g", t);
+        renderRun(opt.run_dir, t, opt.field, width, height, out + sub);
+      }
+    }
+  } catch (const RunError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace fesph

@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+// Through-holes of a perforated plate, from geometry (not pixels): the live tetrahedra are
+// projected onto the plate's mid-plane and rasterised; holes are the enclosed empty regions.
+#pragma once
+
+#include "core/common/types.hpp"
+#include "core/state/model.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace fesph {
+
+struct HoleOptions {
+  /// Raster cell edge, m. 0: a quarter of the 10th-percentile tet edge length (the fine mesh).
+  double cell_size = 0;
+  /// The raster never exceeds this many cells; the cell grows to fit.
+  std::size_t max_cells = 16'000'000;
+  /// Openings smaller than this are ignored, m^2 (full plate). 0: four raster cells.
+  double min_area = 0;
+  /// Half model: mirror the plate on this plane before looking for holes, so a hole cut by
+  /// the symmetry plane is found whole and every value is a full-plate value.
+  bool mirror = false;
+  int symmetry_axis = 1;            ///< 0, 1, 2 = x, y, z
+  double symmetry_position = 0.0;   ///< m
+  /// Plate normal; zero: the direction of smallest extent of the plate's nodes (PCA).
+  Vec3 normal = Vec3::Zero();
+};
+
+struct Hole {
+  double area = 0;             ///< full plate, m^2
+  double diameter = 0;         ///< equivalent diameter sqrt(4 area / pi), m
+  Vec3 centroid = Vec3::Zero();  ///< on the mid-plane, m
+  /// Closed outline on the mid-plane (last point joins the first), m. Follows the raster cells,
+  /// with the staircase corners cut.
+  std::vector<Vec3> outline;
+  bool on_symmetry = false;    ///< crosses the symmetry plane (mirrored half models)
+};
+
+struct PlateHoles {
+  std::string plate;                 ///< body name
+  Vec3 origin = Vec3::Zero();        ///< a point of the mid-plane, m
+  Vec3 normal = Vec3::UnitZ();       ///< unit; points to the front (+z side unless given)
+  Vec3 u = Vec3::UnitX(), v = Vec3::UnitY();  ///< in-plane axes; v is global y projected
+  double front = 0, rear = 0;        ///< normal coordinates of the front and rear extremes, m
+  double cell_size = 0;              ///< raster cell edge used, m
+  std::vector<Hole> holes;           ///< largest first
+};
+
+/// Holes of the plate made of the tetrahedra `tets` over the points `x` (every tet counts as
+/// live). Only the largest node-connected piece counts as the plate: plugs and fragments that
+/// came loose do not close a hole even when they still lie in front of it.
+PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<int, 4>>& tets,
+                     const HoleOptions& options = {});
+
+/// Holes of the live elements of body `body` of `model`, at the current positions.
+PlateHoles findHoles(const Model& model, int body, const HoleOptions& options = {});
+
+/// One row per hole: plate, hole, area_m2, diameter_m, centroid_x/y/z_m, on_symmetry.
+/// Plates without holes get no row. Throws RunError when the file cannot be written.
+void writeHolesCsv(const std::string& path, const std::vector<PlateHoles>& plates);
+
+/// {"plates": [{"name", "count", "cell_size_m", "holes": [{area_m2, diameter_m, centroid_m,
+/// on_symmetry, outline_m: [[x,y,z], ...]}]}]}. Throws RunError when it cannot be written.
+void writeHolesJson(const std::string& path, const std::vector<PlateHoles>& plates);
+
+}  // namespace fesph

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+#include "core/conversion/ties.hpp"
+
+#include "core/contact/surfaces.hpp"
+#include "core/conversion/face_geometry.hpp"
+
+#include <cmath>
+
+namespace fesph {
+
+namespace {
+
+// Velocity change of a face node, zero in the directions its boundary conditions hold.
+void addNodeVelocity(Nodes& nd, int a, Vec3 dv) {
+  for (int k = 0; k < 3; ++k)
+    if (nd.fix[a] & (1u << k)) dv[k] = 0.0;
+  nd.v[a] += dv;
+}
+
+double inverseMass(const Nodes& nd, int a) {
+  return nd.fix[a] == 0b111 || !(nd.m[a] > 0) ? 0.0 : 1.0 / nd.m[a];
+}
+
+}  // namespace
+
+void tieToExposedFace(Model& model, std::size_t p, std::size_t e) {
+  const Surfaces& s = model.surfaces;
+  Particles& pa = model.particles;
+  for (int k = 0; k < 4; ++k) {
+    const FaceRecord& rec = s.table[s.elem_faces[e][k]];
+    if (rec.exterior < 0) continue;
+    const ExteriorFace& f = s.exterior[rec.exterior];
+    const Nodes& nd = model.nodes;
+    FaceProjection proj;
+    if (!projectOnFace(pa.x[p], nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], proj)) continue;
+    pa.tie[p].face = f.node;
+    pa.tie[p].bary = clampBary(proj.bary);
+    return;
+  }
+}
+
+long releaseTies(Model& model) {
+  Particles& pa = model.particles;
+  long released = 0;
+  for (std::size_t p = 0; p < pa.size(); ++p) {
+    Tie& t = pa.tie[p];
+    if (!t.active()) continue;
+    const int f = findFace(model.surfaces, t.face[0], t.face[1], t.face[2]);
+    const bool face_gone = f < 0 || model.surfaces.table[f].exterior < 0;
+    if (face_gone || pa.state[p].damage >= 1.0) {
+      t = Tie{};
+      ++released;
+    }
+  }
+  return released;
+}
+
+void enforceTies(Model& model, int passes) {
+  Particles& pa = model.particles;
+  Nodes& nd = model.nodes;
+  for (int k = 1; k <= passes; ++k) {
+    const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
+    // Sequential in particle order: ties share face nodes, so the order must be fixed.
+    for (std::size_t p = 0; p < pa.size(); ++p) {
+      const Tie& t = pa.tie[p];
+      if (!t.active()) continue;
+      Vec3 v_face = Vec3::Zero();
+      double denom = 1.0;
+      for (int i = 0; i < 3; ++i) {
+        v_face += t.bary[i] * nd.v[t.face[i]];
+        denom += t.bary[i] * t.bary[i] * pa.m[p] * inverseMass(nd, t.face[i]);
+      }
+      const Vec3 dv_s = -alpha * (pa.v[p] - v_face) / denom;
+      pa.v[p] += dv_s;
+      for (int i = 0; i < 3; ++i)
+        addNodeVelocity(nd, t.face[i], (-t.bary[i] * pa.m[p] * inverseMass(nd, t.face[i])) * dv_s);
+    }
+  }
+}
+
+}  // namespace fesph

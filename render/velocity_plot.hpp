@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// Projectile velocity history plots (the paper's Fig. 5) from one or more runs' history.csv,
+// drawn with VTK charts on the off-screen window.
+#pragma once
+
+#include "render/plate_images.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fesph {
+
+enum class VelocityMeasure {
+  Speed,      ///< |v| of the body's mean velocity
+  MinusVz,    ///< -v_z: the speed along -z, the usual direction of flight
+};
+
+/// Colour of the k-th curve (0-255 RGB; the test looks for these pixels).
+void curveColour(int k, unsigned char rgb[3]);
+
+/// One curve per (label, history.csv) pair, time in µs against velocity in m/s, with a legend.
+/// `body`: the body whose <body>_vx,_vy,_vz columns are plotted; empty: each run's projectile
+/// (from scene.toml beside its history.csv, else the first body). Only options.width and
+/// options.height are used. Returns `out_png`. Throws RunError (missing file or column).
+std::string renderVelocityPlot(
+    const std::vector<std::pair<std::string, std::string>>& label_and_history_csv,
+    const std::string& body, const std::string& out_png, const ImageOptions& options = {},
+    VelocityMeasure measure = VelocityMeasure::Speed);
+
+}  // namespace fesph

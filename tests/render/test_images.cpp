@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: MIT
+// Off-screen images with DISPLAY unset: a synthetic perforated plate written with SeriesWriter
+// and rendered back (pixels, hole area at the known scale), the section view, and a velocity
+// plot of two synthetic histories (pixels of each curve colour).
+#include "render/plate_images.hpp"
+#include "render/section_view.hpp"
+#include "render/series_writer.hpp"
+#include "render/velocity_plot.hpp"
+
+#include "core/common/error.hpp"
+#include "core/mesh/structured_box.hpp"
+#include "tests/support/models.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <vtkDoubleArray.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <unistd.h>
+
+using namespace fesph;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempFolder {
+  fs::path path;
+  explicit TempFolder(const std::string& name)
+      : path(fs::temp_directory_path() / ("fesph_images_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempFolder() {
+    if (!std::getenv("FESPH_KEEP_TEST_IMAGES")) fs::remove_all(path);
+  }
+};
+
+/// RGB pixels of a PNG, row 0 at the bottom (VTK's image order).
+struct Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  const unsigned char* at(int x, int y) const { return &rgb[3 * (static_cast<std::size_t>(y) * width + x)]; }
+  std::size_t count(const std::function<bool(const unsigned char*)>& f, int x0 = 0, int y0 = 0,
+                    int x1 = -1, int y1 = -1) const {
+    if (x1 < 0) x1 = width - 1;
+    if (y1 < 0) y1 = height - 1;
+    std::size_t n = 0;
+    for (int y = std::max(0, y0); y <= std::min(height - 1, y1); ++y)
+      for (int x = std::max(0, x0); x <= std::min(width - 1, x1); ++x) n += f(at(x, y));
+    return n;
+  }
+};
+
+Image readPng(const std::string& path) {
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkImageData* img = reader->GetOutput();
+  Image out;
+  int dims[3];
+  img->GetDimensions(dims);
+  out.width = dims[0];
+  out.height = dims[1];
+  const int nc = img->GetNumberOfScalarComponents();
+  const auto* p = static_cast<const unsigned char*>(img->GetScalarPointer());
+  for (int i = 0; i < out.width * out.height; ++i)
+    for (int c = 0; c < 3; ++c) out.rgb.push_back(p[i * nc + c]);
+  return out;
+}
+
+bool white(const unsigned char* p) { return p[0] > 245 && p[1] > 245 && p[2] > 245; }
+
+bool near(const unsigned char* p, const unsigned char* q, int tol) {
+  return std::abs(p[0] - q[0]) <= tol && std::abs(p[1] - q[1]) <= tol && std::abs(p[2] - q[2]) <= tol;
+}
+
+constexpr double mm = 1e-3;
+
+/// A run folder: body 0 "bullet" (projectile, 4 x 4 x 10 mm, behind the plate), body 1
+/// "plate" (40 x 40 x 2 mm of 1 mm cubes, front face z = 0) with the cube columns whose centre
+/// is within 6 mm of the axis eroded; damage falls off with the distance from the hole; a few
+/// bullet particles lie on the plate's front face near a corner. Returns the true hole area.
+double writeRun(const fs::path& dir) {
+  Model model;
+  model.materials.push_back(testing::elasticMaterial());
+  Placement behind;
+  behind.translation = Vec3(-2 * mm, -2 * mm, -20 * mm);
+  addBody(model, "bullet", structuredBox(Vec3::Zero(), Vec3(4 * mm, 4 * mm, 10 * mm), 2, 2, 5), 0,
+          behind, Vec3(0, 0, -300), true);
+  addBody(model, "plate", structuredBox(Vec3(-20 * mm, -20 * mm, -2 * mm), Vec3(40 * mm, 40 * mm, 2 * mm), 40, 40, 2),
+          0, Placement{}, Vec3::Zero(), false);
+  finaliseModel(model);
+
+  const double radius = 6 * mm;
+  double true_area = 0;
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i)
+      if (std::hypot(-19.5 + i, -19.5 + j) < 6) true_area += mm * mm;
+  const Body& plate = model.bodies[1];
+  for (std::size_t e = plate.elem_begin; e < plate.elem_end; ++e) {
+    Vec3 c = Vec3::Zero();
+    for (int n : model.elems.conn[e]) c += 0.25 * model.nodes.x[n];
+    const double cx = (std::floor(c.x() / mm) + 0.5) * mm, cy = (std::floor(c.y() / mm) + 0.5) * mm;
+    const double r = std::hypot(cx, cy);
+    if (r < radius) model.elems.status[e] = ElemStatus::Eroded;
+    model.elems.state[e].damage = std::exp(-(r - radius) / (4 * mm));
+    model.elems.state[e].eps_p = 0.8 * std::exp(-(r - radius) / (3 * mm));
+  }
+  SeriesWriter(dir).write(model, 25e-6);
+
+  // Particle series: five bullet particles of 0.6 mm radius near the corner (15, 15) mm,
+  // replacing the (empty) particle series SeriesWriter wrote.
+  vtkNew<vtkPolyData> particles;
+  vtkNew<vtkPoints> pts;
+  vtkNew<vtkDoubleArray> rad, eps;
+  vtkNew<vtkIntArray> body;
+  rad->SetName("radius");
+  eps->SetName("plastic_strain");
+  body->SetName("body");
+  for (int k = 0; k < 5; ++k) {
+    pts->InsertNextPoint((14 + k) * mm, 15 * mm, 0.7 * mm);
+    rad->InsertNextValue(0.6 * mm);
+    eps->InsertNextValue(0.5);
+    body->InsertNextValue(0);
+  }
+  particles->SetPoints(pts);
+  particles->GetPointData()->AddArray(rad);
+  particles->GetPointData()->AddArray(eps);
+  particles->GetPointData()->AddArray(body);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(particles);
+  writer->SetFileName((dir / "bullet_000000.vtp").c_str());
+  writer->Write();
+  PvdCollection(dir / "particles.pvd", false).add(25e-6, "bullet_000000.vtp");
+
+  std::ofstream(dir / "scene.toml") << "[[bodies]]\nname = \"bullet\"\nprojectile = true\n"
+                                       "[[bodies]]\nname = \"plate\"\n";
+  return true_area;
+}
+
+void writeHistory(const fs::path& path, double v0, double v_residual) {
+  std::ofstream out(path);
+  out << "time,step,dt,kinetic,bullet_vx,bullet_vy,bullet_vz\n";
+  for (int i = 0; i <= 100; ++i) {
+    const double t = i * 0.5e-6;
+    const double v = v_residual + (v0 - v_residual) / (1 + std::exp((t - 20e-6) / 3e-6));
+    out << t << ',' << i << ",1e-9,0,0,0," << -v << '\n';
+  }
+}
+
+}  // namespace
+
+TEST_CASE("plate images render headless and show the hole at the right scale", "[unit][render]") {
+  unsetenv("DISPLAY");  // prove that no X server is needed
+  TempFolder dir("plate");
+  const double true_area = writeRun(dir.path);
+  ImageOptions options;
+  options.width = 800;
+  options.height = 600;
+  const std::vector<PlateImages> images =
+      renderPlateImages(dir.path.string(), -1, options, (dir.path / "images").string());
+
+  REQUIRE(images.size() == 1);  // the bullet is the projectile: only the plate is drawn
+  const PlateImages& plate = images[0];
+  CHECK(plate.plate == "plate");
+  CHECK(plate.time == Approx(25e-6));
+  REQUIRE(plate.holes.holes.size() == 1);
+  CHECK(plate.holes.holes[0].area == Approx(true_area).epsilon(0.02));
+
+  const Image front = readPng(plate.front_png);
+  REQUIRE(front.width == 800);
+  REQUIRE(front.height == 600);
+  const std::size_t pixels = static_cast<std::size_t>(front.width) * front.height;
+  CHECK(front.count([](const unsigned char* p) { return !white(p); }) > pixels / 5);
+
+  // Hole area from pixels: white pixels inside the plate's square, at pixel_size m per pixel.
+  const double cx = 0.5 * (render_detail::kSceneViewport[0] + render_detail::kSceneViewport[2]) * 800;
+  const double cy = 0.5 * (render_detail::kSceneViewport[1] + render_detail::kSceneViewport[3]) * 600;
+  const int half = static_cast<int>(17 * mm / plate.pixel_size);
+  const std::size_t hole_px = front.count(white, static_cast<int>(cx) - half, static_cast<int>(cy) - half,
+                                          static_cast<int>(cx) + half, static_cast<int>(cy) + half);
+  CHECK(hole_px * plate.pixel_size * plate.pixel_size == Approx(true_area).epsilon(0.05));
+
+  // The bullet particles on the front face are drawn in the bullet's colour.
+  double c[3];
+  render_detail::bodyColour(0, c);
+  const unsigned char red[3] = {static_cast<unsigned char>(255 * c[0]),
+                                static_cast<unsigned char>(255 * c[1]),
+                                static_cast<unsigned char>(255 * c[2])};
+  CHECK(front.count([&](const unsigned char* p) { return near(p, red, 60); }) > 50);
+
+  // The rear view has the hole outline in red.
+  const Image rear = readPng(plate.rear_png);
+  const unsigned char outline[3] = {227, 26, 28};
+  CHECK(rear.count([&](const unsigned char* p) { return near(p, outline, 40); }) > 100);
+}
+
+TEST_CASE("section view renders the y = 0 cut", "[unit][render]") {
+  unsetenv("DISPLAY");
+  TempFolder dir("section");
+  writeRun(dir.path);
+  ImageOptions options;
+  options.width = 800;
+  options.height = 600;
+  const std::string png = renderSectionView(dir.path.string(), -1, options, (dir.path / "section.png").string());
+  const Image img = readPng(png);
+  CHECK(img.count([](const unsigned char* p) { return !white(p); }) > 800u * 600u / 20);
+}
+
+TEST_CASE("velocity plot draws one curve per run", "[unit][render]") {
+  unsetenv("DISPLAY");
+  TempFolder dir("plot");
+  fs::create_directories(dir.path / "a");
+  fs::create_directories(dir.path / "b");
+  writeHistory(dir.path / "a" / "history.csv", 800, 520);
+  writeHistory(dir.path / "b" / "history.csv", 800, 430);
+  ImageOptions options;
+  options.width = 900;
+  options.height = 600;
+  const std::string png = renderVelocityPlot(
+      {{"run A", (dir.path / "a" / "history.csv").string()}, {"run B", (dir.path / "b" / "history.csv").string()}},
+      "bullet", (dir.path / "velocity.png").string(), options);
+  const Image img = readPng(png);
+  for (int k = 0; k < 2; ++k) {
+    unsigned char c[3];
+    curveColour(k, c);
+    CHECK(img.count([&](const unsigned char* p) { return near(p, c, 30); }) > 300);
+  }
+  CHECK_THROWS_AS(renderVelocityPlot({{"x", (dir.path / "a" / "history.csv").string()}}, "nobody",
+                                     (dir.path / "bad.png").string(), options),
+                  RunError);
+}

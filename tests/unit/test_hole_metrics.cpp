@@ -1,0 +1,182 @@
+// SPDX-License-Identifier: MIT
+// Hole metrics on structured plates with holes cut along whole cube columns, so the true hole
+// area (cubes x cube area) and centroid are known exactly.
+#include "core/analysis/hole_metrics.hpp"
+
+#include "core/mesh/structured_box.hpp"
+#include "tests/support/models.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+using namespace fesph;
+
+namespace {
+
+struct Circle {
+  double x, y, r;
+  bool contains(double px, double py) const { return std::hypot(px - x, py - y) < r; }
+};
+
+/// A plate of 1 mm cubes over [x0, x0 + nx mm] x [y0, y0 + ny mm] x [-nz mm, 0] with the cube
+/// columns whose centre lies in one of `holes` removed. Also returns the true holes: area and
+/// centroid of the removed columns (of each circle, full plate when `mirror_y`).
+struct HolePlate {
+  TetMesh mesh;
+  std::vector<std::array<int, 4>> live;
+  std::vector<bool> eroded;  ///< per tet
+  std::vector<double> true_area;
+  std::vector<Vec3> true_centroid;
+};
+
+HolePlate holePlate(double x0, double y0, int nx, int ny, int nz, const std::vector<Circle>& holes,
+                    bool mirror_y = false) {
+  const double mm = 1e-3;
+  HolePlate p;
+  p.mesh = structuredBox(Vec3(x0 * mm, y0 * mm, -nz * mm), Vec3(nx * mm, ny * mm, nz * mm), nx,
+                         ny, nz);
+  const auto column = [&](const Vec3& c) {
+    // centre of the cube column holding point c, in mm
+    return std::pair<double, double>{x0 + std::floor(c.x() / mm - x0) + 0.5,
+                                     y0 + std::floor(c.y() / mm - y0) + 0.5};
+  };
+  for (const auto& t : p.mesh.tets) {
+    const Vec3 c = 0.25 * (p.mesh.nodes[t[0]] + p.mesh.nodes[t[1]] + p.mesh.nodes[t[2]] +
+                           p.mesh.nodes[t[3]]);
+    const auto [cx, cy] = column(c);
+    bool gone = false;
+    for (const Circle& h : holes) gone |= h.contains(cx, cy);
+    p.eroded.push_back(gone);
+    if (!gone) p.live.push_back(t);
+  }
+  for (const Circle& h : holes) {
+    double n = 0, sx = 0, sy = 0;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const double cx = x0 + i + 0.5, cy = y0 + j + 0.5;
+        if (!h.contains(cx, cy)) continue;
+        const double w = mirror_y ? 2.0 : 1.0;  // the mirror image has the same area
+        n += w;
+        sx += w * cx;
+        sy += mirror_y ? 0.0 : cy;
+      }
+    p.true_area.push_back(n * mm * mm);
+    p.true_centroid.push_back(Vec3(sx / n * mm, sy / n * mm, -0.5 * nz * mm));
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("hole metrics: two holes of known size", "[unit][analysis]") {
+  // 60 x 40 x 3 mm plate; a 16 mm and an 8 mm hole.
+  const HolePlate p = holePlate(-30, -20, 60, 40, 3, {{-15, 0, 8}, {15, 5, 4}});
+  const PlateHoles h = findHoles(p.mesh.nodes, p.live);
+  REQUIRE(h.holes.size() == 2);
+  CHECK(h.normal.z() == Approx(1.0).margin(1e-9));
+  for (int k = 0; k < 2; ++k) {
+    CHECK(h.holes[k].area == Approx(p.true_area[k]).epsilon(0.02));
+    CHECK(h.holes[k].diameter == Approx(std::sqrt(4 * p.true_area[k] / M_PI)).epsilon(0.01));
+    CHECK((h.holes[k].centroid - p.true_centroid[k]).norm() < 0.1e-3);
+    CHECK_FALSE(h.holes[k].on_symmetry);
+    // the outline runs around the hole, at about its radius from the centroid
+    const double r = std::sqrt(p.true_area[k] / M_PI);
+    REQUIRE(h.holes[k].outline.size() > 8);
+    for (const Vec3& q : h.holes[k].outline)
+      CHECK((q - h.holes[k].centroid).norm() == Approx(r).margin(1.0e-3));
+  }
+  CHECK(h.front - h.rear == Approx(3e-3));
+}
+
+TEST_CASE("hole metrics: a raster cell unrelated to the mesh stays within 2%", "[unit][analysis]") {
+  const HolePlate p = holePlate(-30, -20, 60, 40, 3, {{-15, 0, 8}, {15, 5, 4}});
+  HoleOptions o;
+  o.cell_size = 0.23e-3;
+  const PlateHoles h = findHoles(p.mesh.nodes, p.live, o);
+  REQUIRE(h.holes.size() == 2);
+  for (int k = 0; k < 2; ++k) CHECK(h.holes[k].area == Approx(p.true_area[k]).epsilon(0.02));
+}
+
+TEST_CASE("hole metrics: half model, hole on the symmetry edge", "[unit][analysis]") {
+  // y in [0, 20] mm; a 12 mm hole centred on y = 0 is half a hole in the model.
+  const HolePlate p = holePlate(-30, 0, 60, 20, 3, {{0, 0, 6}}, true);
+  SECTION("without mirroring it is a notch in the edge, not a hole") {
+    CHECK(findHoles(p.mesh.nodes, p.live).holes.empty());
+  }
+  SECTION("mirrored: the full-plate hole") {
+    HoleOptions o;
+    o.mirror = true;
+    o.symmetry_axis = 1;
+    o.symmetry_position = 0.0;
+    const PlateHoles h = findHoles(p.mesh.nodes, p.live, o);
+    REQUIRE(h.holes.size() == 1);
+    CHECK(h.holes[0].area == Approx(p.true_area[0]).epsilon(0.02));
+    CHECK(h.holes[0].on_symmetry);
+    CHECK((h.holes[0].centroid - p.true_centroid[0]).norm() < 0.1e-3);
+  }
+}
+
+TEST_CASE("hole metrics: no hole, and a loose plug does not close a hole", "[unit][analysis]") {
+  SECTION("intact plate") {
+    const HolePlate p = holePlate(-20, -20, 40, 40, 2, {});
+    CHECK(findHoles(p.mesh.nodes, p.live).holes.empty());
+  }
+  SECTION("plug sheared off: only its ring of elements eroded, the plug pushed out") {
+    // Erode the ring 5 mm < r < 7 mm; the plug inside is disconnected from the plate.
+    HolePlate p = holePlate(-20, -20, 40, 40, 2, {{0, 0, 7}});
+    const HolePlate full = p;
+    std::vector<std::array<int, 4>> live;
+    std::vector<Vec3> x = p.mesh.nodes;
+    for (std::size_t e = 0; e < p.mesh.tets.size(); ++e) {
+      const auto& t = p.mesh.tets[e];
+      const Vec3 c = 0.25 * (x[t[0]] + x[t[1]] + x[t[2]] + x[t[3]]);
+      const double cx = std::floor(c.x() * 1e3) + 0.5, cy = std::floor(c.y() * 1e3) + 0.5;
+      if (!p.eroded[e] || std::hypot(cx, cy) < 5) live.push_back(t);
+    }
+    for (Vec3& q : x)
+      if (std::hypot(q.x(), q.y()) < 4.9e-3) q.z() -= 4e-3;  // pushed behind the plate
+    const PlateHoles h = findHoles(x, live);
+    REQUIRE(h.holes.size() == 1);
+    CHECK(h.holes[0].area == Approx(full.true_area[0]).epsilon(0.02));
+  }
+}
+
+TEST_CASE("hole metrics: from a Model, and CSV/JSON output", "[unit][analysis]") {
+  Model model = testing::boxModel(testing::elasticMaterial(), Vec3(40e-3, 30e-3, 2e-3), 40, 30, 2);
+  const Circle hole{20, 15, 5};  // box model spans [0, 40] x [0, 30] mm
+  double true_area = 0;
+  for (int j = 0; j < 30; ++j)
+    for (int i = 0; i < 40; ++i) true_area += hole.contains(i + 0.5, j + 0.5) ? 1e-6 : 0.0;
+  for (std::size_t e = 0; e < model.elems.size(); ++e) {
+    Vec3 c = Vec3::Zero();
+    for (int n : model.elems.conn[e]) c += 0.25 * model.nodes.x[n];
+    if (hole.contains(std::floor(c.x() * 1e3) + 0.5, std::floor(c.y() * 1e3) + 0.5))
+      model.elems.status[e] = ElemStatus::Eroded;
+  }
+  const PlateHoles h = findHoles(model, 0);
+  CHECK(h.plate == "box");
+  REQUIRE(h.holes.size() == 1);
+  CHECK(h.holes[0].area == Approx(true_area).epsilon(0.02));
+
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("fesph_holes_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  writeHolesCsv((dir / "holes.csv").string(), {h});
+  writeHolesJson((dir / "holes.json").string(), {h});
+  std::ifstream csv(dir / "holes.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  CHECK(header.rfind("plate,hole,area_m2,diameter_m", 0) == 0);
+  CHECK(row.rfind("box,1,", 0) == 0);
+  std::stringstream json;
+  json << std::ifstream(dir / "holes.json").rdbuf();
+  CHECK(json.str().find("\"count\": 1") != std::string::npos);
+  CHECK(json.str().find("\"outline_m\": [[") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}
