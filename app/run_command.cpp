@@ -43,6 +43,11 @@ void printSummary(const Model& model, double wall_solver, double wall_total,
                 1e9 * wall_solver / element_steps, omp_get_max_threads());
   std::printf("  energy (J)       kinetic %.6g  internal %.6g  contact %.6g  eroded %.6g\n",
               en.kinetic, en.internal, en.contact, en.eroded);
+  const ConversionStats& cs = model.conversion;
+  if (cs.eroded + cs.converted > 0)
+    std::printf("  conversion       %ld eroded (%.4g kg), %ld converted; triggers: %ld damage, "
+                "%ld safety, the rest plastic strain\n",
+                cs.eroded, cs.eroded_mass, cs.converted, cs.by_damage, cs.by_safety);
   std::printf("  energy balance   error %.3g %% of the initial %.6g J\n",
               100 * en.balanceError(), en.initial);
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {

@@ -4,6 +4,6 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$root/scripts/setup.sh"
 build=${FESPH_BUILD_DIR:-$root/build}
-scene=${1:-$root/scenes/taylor_benchmark/scene.toml}
+scene=${1:-$root/scenes/single_plate/scene.toml}
 out=${2:-$root/runs/main}
 "$build/fesph" run "$scene" --out "$out"

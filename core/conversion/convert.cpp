@@ -35,6 +35,7 @@ void convertElement(Model& model, std::size_t e, double kappa, Trigger why) {
     model.energy.conversion += jump;
     ++model.conversion.converted;
     if (why == Trigger::Safety) ++model.conversion.by_safety;
+    if (why == Trigger::Damage) ++model.conversion.by_damage;
   }
 }
 

@@ -33,6 +33,7 @@ void erodeElement(Model& model, std::size_t e, Trigger why) {
     model.conversion.eroded_mass += mass;
     ++model.conversion.eroded;
     if (why == Trigger::Safety) ++model.conversion.by_safety;
+    if (why == Trigger::Damage) ++model.conversion.by_damage;
   }
 }
 

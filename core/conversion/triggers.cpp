@@ -11,7 +11,7 @@ Trigger elementTrigger(const Model& model, std::size_t e) {
   if (st.damage >= 1.0) return Trigger::Damage;
   const double J = el.V[e] / el.V0[e];
   if (J < c.min_volume_ratio || J > c.max_volume_ratio) return Trigger::Safety;
-  if (el.dt0[e] > 0 && el.dt[e] < c.min_dt_ratio * el.dt0[e]) return Trigger::Safety;
+  if (el.len0[e] > 0 && el.len[e] < c.min_dt_ratio * el.len0[e]) return Trigger::Safety;
   return Trigger::None;
 }
 

@@ -10,7 +10,8 @@ namespace fesph {
 enum class Trigger { None, PlasticStrain, Damage, Safety };
 
 /// Why live element e should erode or convert now (None: it stays). Uses the state after the
-/// last material update: eps_p, damage, V/V0 and the stable step against its first value.
+/// last material update: eps_p, damage, V/V0 and the smallest altitude (the geometric part of
+/// the stable step) against its first value.
 Trigger elementTrigger(const Model& model, std::size_t e);
 
 }  // namespace fesph

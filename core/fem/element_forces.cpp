@@ -68,7 +68,8 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   // stable step with the viscosity correction: l / (Q + sqrt(Q^2 + c^2))
   const double Q = trD < 0 ? ctl.bulk_linear * c_wave + ctl.bulk_quadratic * len * (-trD) : 0.0;
   el.dt[e] = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
-  if (el.dt0[e] == 0) el.dt0[e] = el.dt[e];
+  el.len[e] = len;
+  if (el.len0[e] == 0) el.len0[e] = len;
   return wp * gm.volume;
 }
 

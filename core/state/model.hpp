@@ -41,7 +41,7 @@ struct Elements {
   std::vector<double> rho;               ///< current density, kg/m^3
   std::vector<double> q;                 ///< bulk viscosity pressure, Pa
   std::vector<double> dt;                ///< stable time step estimate, s
-  std::vector<double> dt0;               ///< stable time step estimate at the first step, s
+  std::vector<double> len, len0;         ///< smallest altitude now and at the first step, m
   std::vector<PointState> state;         ///< stress and history variables
   std::vector<ElemStatus> status;
   std::size_t size() const { return conn.size(); }
@@ -133,13 +133,16 @@ struct ConversionControls {
   // Safety triggers, so a run never dies of a distorted element (counted apart):
   double min_volume_ratio = 0.05;  ///< V/V0 below this
   double max_volume_ratio = 20.0;  ///< V/V0 above this
-  double min_dt_ratio = 0.1;       ///< element stable step below this fraction of its first
+  /// smallest altitude below this fraction of its first: the geometric part of the stable
+  /// step has collapsed (the viscous part shrinks in any strong shock and must not trigger)
+  double min_dt_ratio = 0.1;
 };
 
 /// Counts of what the conversion layer did.
 struct ConversionStats {
   long eroded = 0;      ///< elements deleted (erosion mode)
   long converted = 0;   ///< elements turned into particles (sph mode)
+  long by_damage = 0;   ///< of those, triggered by full damage (before eps_p reached its threshold)
   long by_safety = 0;   ///< of those, triggered by a safety criterion
   double eroded_mass = 0;  ///< kg removed by erosion
 };

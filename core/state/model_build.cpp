@@ -49,7 +49,8 @@ int addBody(Model& model, const std::string& name, const TetMesh& mesh, int mate
     el.rho.push_back(mat.rho0);
     el.q.push_back(0.0);
     el.dt.push_back(0.0);
-    el.dt0.push_back(0.0);
+    el.len.push_back(0.0);
+    el.len0.push_back(0.0);
     PointState st;
     st.T = mat.T_room;
     el.state.push_back(st);
