@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/solver/boundary.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace fesph {
@@ -34,13 +35,18 @@ void enforceRigidWalls(Model& model, double dt) {
       }
       nd.v[a] = v;
     }
-    // Particles keep half their spacing cbrt(V) off the wall (frictionless).
+    // Particles keep half their spacing cbrt(V) off the wall (frictionless). One that starts
+    // closer (born from an element on the wall) is only kept from coming closer: pushing it
+    // out within one step would need a velocity of overlap/dt.
     Particles& pa = model.particles;
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < pa.size(); ++i) {
-      const double gap_next =
-          (pa.x[i] + dt * pa.v[i] - w.point).dot(w.normal) - 0.5 * std::cbrt(pa.V[i]);
-      if (gap_next < 0) pa.v[i] -= (gap_next / dt) * w.normal;
+      const double offset = 0.5 * std::cbrt(pa.V[i]);
+      const double gap = (pa.x[i] - w.point).dot(w.normal) - offset;
+      const double gap_next = gap + dt * pa.v[i].dot(w.normal);
+      if (gap_next >= 0) continue;
+      const double target = std::min(gap, 0.0);  // end on the offset, or where it started
+      if (gap_next < target) pa.v[i] += ((target - gap_next) / dt) * w.normal;
     }
   }
 }

@@ -219,7 +219,7 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   pa.f[i] = f;
   const double ci = cur.c[i];
   const double speed = ci + pa.v[i].norm() + 1.2 * (ctl.av_alpha * ci + ctl.av_beta * mu_max);
-  pa.dt[i] = cur.h[i] / speed;
+  pa.dt[i] = ctl.dt_factor * cur.h[i] / speed;
   return heat_power * dt;
 }
 

@@ -28,6 +28,11 @@ struct SphControls {
   int min_neighbours = 6;     ///< fewer neighbours: plain (normalised) kernel gradient
   int as_exponent = 4;        ///< artificial stress exponent n in (W(r)/W(dp))^n
   int contact_passes = 3;     ///< Gauss-Seidel passes of the particle-particle contact
+  /// Extra factor on the particle step (the solver's Courant factor applies on top). Freshly
+  /// converted particles with 6-8 neighbours carry the element's compression and oscillated
+  /// (J 0.87 -> 1.57 -> 0.66) at Courant 0.5; 0.4 x 0.5 = 0.2 kept the energy budget of
+  /// converting bars within 0.4 % (docs/sph.md).
+  double dt_factor = 0.4;
 };
 
 /// The particle quantities one step's forces were computed from. Keeping the previous step's

@@ -6,6 +6,7 @@
 #include "core/state/model_build.hpp"
 
 #include <stdexcept>
+#include <vector>
 
 namespace fesph::testing {
 
@@ -21,6 +22,15 @@ inline Material elasticMaterial(double rho = 7850, double E = 200e9, double nu =
   const std::string err = finaliseMaterial(m);
   if (!err.empty()) throw std::logic_error(err);
   return m;
+}
+
+/// Particles at the centres of an nx x ny x nz lattice of cubes of edge s from `origin`.
+inline std::vector<Vec3> lattice(const Vec3& origin, int nx, int ny, int nz, double s) {
+  std::vector<Vec3> p;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) p.push_back(origin + s * Vec3(i + 0.5, j + 0.5, k + 0.5));
+  return p;
 }
 
 /// One body: a structured box mesh of `mat` with uniform velocity.

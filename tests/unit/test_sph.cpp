@@ -9,6 +9,8 @@
 #include "core/sph/sph_workspace.hpp"
 #include "core/state/model_build.hpp"
 
+#include "tests/support/models.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -19,29 +21,9 @@
 #endif
 
 using namespace fesph;
+using fesph::testing::lattice;
 
 namespace {
-
-Material steel() {
-  Material m;
-  m.name = "elastic steel";
-  m.rho0 = 7850;
-  m.E = 200e9;
-  m.nu = 0.3;
-  m.strength = StrengthModel::Elastic;
-  m.eos = EosModel::Linear;
-  finaliseMaterial(m);
-  return m;
-}
-
-/// Particles at the centres of an nx x ny x nz lattice of cubes of edge s from `origin`.
-std::vector<Vec3> lattice(const Vec3& origin, int nx, int ny, int nz, double s) {
-  std::vector<Vec3> p;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) p.push_back(origin + s * Vec3(i + 0.5, j + 0.5, k + 0.5));
-  return p;
-}
 
 /// One step as fesph::step takes it, with the SPH storage kept between steps (the Model does
 /// not own it yet).
@@ -64,7 +46,7 @@ void advance(Model& m, SphWorkspace& ws) {
 
 Model latticeModel(int nx, int ny, int nz, double s) {
   Model m;
-  m.materials.push_back(steel());
+  m.materials.push_back(fesph::testing::elasticMaterial());
   const auto p = lattice(Vec3::Zero(), nx, ny, nz, s);
   addParticleBody(m, "block", p, std::vector<double>(p.size(), s * s * s), 0, Vec3::Zero(),
                   false);
@@ -230,7 +212,7 @@ TEST_CASE("sph particle contact: compression only, momentum kept", "[unit][sph]"
   // relative velocity is cut to what lands them at the contact distance, momentum unchanged
   // (1e-15), kinetic energy lost (the solver books it). Separating: untouched.
   Model m;
-  m.materials.push_back(steel());
+  m.materials.push_back(fesph::testing::elasticMaterial());
   const double s = 1e-3, dt = 1e-7;
   addParticleBody(m, "a", {Vec3(0, 0, 0)}, {s * s * s}, 0, Vec3(50, 1, 0), false);
   addParticleBody(m, "b", {Vec3(1.001e-3, 0, 0)}, {2 * s * s * s}, 0, Vec3(-50, 0, 0), false);

@@ -8,6 +8,8 @@
 #include "core/sph/sph_workspace.hpp"
 #include "core/state/model_build.hpp"
 
+#include "tests/support/models.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -16,27 +18,9 @@
 #include <limits>
 
 using namespace fesph;
+using fesph::testing::lattice;
 
 namespace {
-
-Material elasticSteel() {
-  Material m;
-  m.name = "elastic steel";
-  m.rho0 = 7850;
-  m.E = 200e9;
-  m.nu = 0.3;
-  finaliseMaterial(m);
-  return m;
-}
-
-/// Centres of an nx x ny x nz lattice of cubes of edge s starting at `origin`.
-std::vector<Vec3> lattice(const Vec3& origin, int nx, int ny, int nz, double s) {
-  std::vector<Vec3> p;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) p.push_back(origin + s * Vec3(i + 0.5, j + 0.5, k + 0.5));
-  return p;
-}
 
 int addLatticeBody(Model& m, const std::string& name, const std::vector<Vec3>& p, double s,
                    const Vec3& v) {
@@ -95,7 +79,7 @@ TEST_CASE("sph elastic bar: the front speed is sqrt(E/rho) within 3%", "[verific
   // changed by half of the jump (-v0 -> 0). Tolerance 3%.
   const double L = 40e-3, s = 0.5e-3, v0 = 10.0;
   Model m;
-  m.materials.push_back(elasticSteel());
+  m.materials.push_back(fesph::testing::elasticMaterial());
   std::vector<Vec3> p = lattice(Vec3::Zero(), 3, 3, 80, s);
   addLatticeBody(m, "bar", p, s, Vec3(0, 0, -v0));
   finaliseModel(m);
@@ -138,7 +122,7 @@ namespace {
 std::pair<double, double> stretchedBarSpacing(bool artificial_stress) {
   const double s = 0.5e-3, L = 10e-3, rate = 500.0;
   Model m;
-  m.materials.push_back(elasticSteel());
+  m.materials.push_back(fesph::testing::elasticMaterial());
   std::vector<Vec3> p = lattice(Vec3::Zero(), 6, 6, 20, s);
   addLatticeBody(m, "bar", p, s, Vec3::Zero());
   for (std::size_t i = 0; i < p.size(); ++i) m.particles.v[i].z() = rate * (p[i].z() - 0.5 * L);
@@ -183,7 +167,7 @@ TEST_CASE("sph bodies colliding at 200 m/s separate again", "[verification][sph]
   // mass must move apart, the momentum be unchanged (1e-12 of m v) and the bodies apart.
   const double s = 0.5e-3, a = 3e-3, v = 100.0;
   Model m;
-  m.materials.push_back(elasticSteel());
+  m.materials.push_back(fesph::testing::elasticMaterial());
   const int b0 = addLatticeBody(m, "left", lattice(Vec3(-a, 0, 0), 6, 6, 6, s), s, Vec3(v, 0, 0));
   const int b1 = addLatticeBody(m, "right", lattice(Vec3(s, 0, 0), 6, 6, 6, s), s, Vec3(-v, 0, 0));
   finaliseModel(m);
