@@ -170,8 +170,8 @@ void step(Model& model, double t_stop) {
     case ConversionMode::Sph: convertElements(model, model.sph.controls.kappa); break;
     case ConversionMode::None: break;
   }
-  releaseTies(model);
-  computeElementForces(model, dt_last);   // stress and forces at t^n
+  computeElementForces(model, dt_last);   // stress and forces at t^n (inverted: converted)
+  releaseTies(model);                     // faces gone with this step's conversions
   computeParticleForces(model, dt_last);  // SPH within each body, at t^n
   const double dt = stableTimeStep(model, t_stop);
   const double dt_avg = 0.5 * (dt_last + dt);
