@@ -122,6 +122,17 @@ std::string fieldTitle(const std::string& field, double* scale) {
   return field;
 }
 
+vtkSmartPointer<vtkPolyDataMapper> fieldMapper(vtkPolyData* skin, vtkLookupTable* lut) {
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputData(skin);
+  mapper->SetScalarModeToUseCellFieldData();
+  mapper->SelectColorArray("shown");
+  mapper->SetLookupTable(lut);
+  mapper->UseLookupTableScalarRangeOn();
+  mapper->ScalarVisibilityOn();
+  return mapper;
+}
+
 Page makePage(vtkRenderWindow* window, int width, int height) {
   Page page;
   page.width = width;
@@ -596,13 +607,7 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
       OffscreenWindow win(W, H);
       Page page = makePage(win.window(), W, H);
 
-      vtkNew<vtkPolyDataMapper> mapper;
-      mapper->SetInputData(skin);
-      mapper->SetScalarModeToUseCellFieldData();
-      mapper->SelectColorArray("shown");
-      mapper->SetLookupTable(lut);
-      mapper->UseLookupTableScalarRangeOn();
-      mapper->ScalarVisibilityOn();
+      const vtkSmartPointer<vtkPolyDataMapper> mapper = fieldMapper(skin, lut);
       for (int m = 0; m < (info.half ? 2 : 1); ++m) {
         vtkNew<vtkActor> actor;
         actor->SetMapper(mapper);

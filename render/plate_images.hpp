@@ -14,6 +14,7 @@
 class vtkActor;
 class vtkLookupTable;
 class vtkPolyData;
+class vtkPolyDataMapper;
 class vtkRenderer;
 class vtkRenderWindow;
 class vtkScalarsToColors;
@@ -92,6 +93,9 @@ struct Page {
 constexpr double kSceneViewport[4] = {0.02, 0.08, 0.84, 0.90};  // xmin ymin xmax ymax
 /// Adds the two renderers to `window` (overlay first, so the scene is drawn over it).
 Page makePage(vtkRenderWindow* window, int width, int height);
+
+/// A mapper colouring `skin` by its cell array "shown" through `lut` (fixed range).
+vtkSmartPointer<vtkPolyDataMapper> fieldMapper(vtkPolyData* skin, vtkLookupTable* lut);
 void addTitle(Page& page, const std::string& title, const std::string& subtitle);
 /// Scale bar for `pixel_size` m per pixel, a round length near a fifth of the scene width.
 void addScaleBar(Page& page, double pixel_size);

@@ -82,13 +82,7 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
   const int W = options.width, H = options.height;
   OffscreenWindow win(W, H);
   Page page = makePage(win.window(), W, H);
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(skin);
-  mapper->SetScalarModeToUseCellFieldData();
-  mapper->SelectColorArray("shown");
-  mapper->SetLookupTable(lut);
-  mapper->UseLookupTableScalarRangeOn();
-  mapper->ScalarVisibilityOn();
+  const vtkSmartPointer<vtkPolyDataMapper> mapper = fieldMapper(skin, lut);
   vtkNew<vtkActor> actor;
   actor->SetMapper(mapper);
   actor->GetProperty()->SetAmbient(0.25);

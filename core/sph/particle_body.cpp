@@ -81,16 +81,4 @@ Vec3 particleBodyCentre(const Model& model, int body) {
   return m > 0 ? Vec3(s / m) : Vec3::Zero();
 }
 
-Vec3 particleBodyVelocity(const Model& model, int body) {
-  const Particles& pa = model.particles;
-  Vec3 p = Vec3::Zero();
-  double m = 0;
-  for (std::size_t i = 0; i < pa.size(); ++i) {
-    if (pa.body[i] != body) continue;
-    p += pa.m[i] * pa.v[i];
-    m += pa.m[i];
-  }
-  return m > 0 ? Vec3(p / m) : Vec3::Zero();
-}
-
 }  // namespace fesph

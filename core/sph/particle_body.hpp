@@ -29,7 +29,4 @@ int addParticleBody(Model& model, const std::string& name, const TetMesh& mesh, 
 /// Mass-weighted mean position of a body's particles, m.
 Vec3 particleBodyCentre(const Model& model, int body);
 
-/// Mass-weighted mean velocity of a body's particles, m/s.
-Vec3 particleBodyVelocity(const Model& model, int body);
-
 }  // namespace fesph

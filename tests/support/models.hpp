@@ -33,6 +33,22 @@ inline std::vector<Vec3> lattice(const Vec3& origin, int nx, int ny, int nz, dou
   return p;
 }
 
+/// Mass of all nodes and particles, kg.
+inline double totalMass(const Model& m) {
+  double s = 0;
+  for (double x : m.nodes.m) s += x;
+  for (double x : m.particles.m) s += x;
+  return s;
+}
+
+/// Linear momentum of all nodes and particles, kg m/s.
+inline Vec3 totalMomentum(const Model& m) {
+  Vec3 p = Vec3::Zero();
+  for (std::size_t a = 0; a < m.nodes.size(); ++a) p += m.nodes.m[a] * m.nodes.v[a];
+  for (std::size_t i = 0; i < m.particles.size(); ++i) p += m.particles.m[i] * m.particles.v[i];
+  return p;
+}
+
 /// One body: a structured box mesh of `mat` with uniform velocity.
 inline Model boxModel(const Material& mat, const Vec3& size, int nx, int ny, int nz,
                       const Vec3& velocity = Vec3::Zero()) {

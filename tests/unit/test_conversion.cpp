@@ -12,22 +12,10 @@
 #include <cstdio>
 
 using namespace fesph;
+using fesph::testing::totalMass;
+using fesph::testing::totalMomentum;
 
 namespace {
-
-double totalMass(const Model& m) {
-  double s = 0;
-  for (double x : m.nodes.m) s += x;
-  for (double x : m.particles.m) s += x;
-  return s;
-}
-
-Vec3 totalMomentum(const Model& m) {
-  Vec3 p = Vec3::Zero();
-  for (std::size_t a = 0; a < m.nodes.size(); ++a) p += m.nodes.m[a] * m.nodes.v[a];
-  for (std::size_t i = 0; i < m.particles.size(); ++i) p += m.particles.m[i] * m.particles.v[i];
-  return p;
-}
 
 double totalKinetic(const Model& m) {
   double k = 0;

@@ -21,22 +21,10 @@
 #endif
 
 using namespace fesph;
+using fesph::testing::totalMass;
+using fesph::testing::totalMomentum;
 
 namespace {
-
-double totalMass(const Model& m) {
-  double s = 0;
-  for (double x : m.nodes.m) s += x;
-  for (double x : m.particles.m) s += x;
-  return s;
-}
-
-Vec3 totalMomentum(const Model& m) {
-  Vec3 p = Vec3::Zero();
-  for (std::size_t a = 0; a < m.nodes.size(); ++a) p += m.nodes.m[a] * m.nodes.v[a];
-  for (std::size_t i = 0; i < m.particles.size(); ++i) p += m.particles.m[i] * m.particles.v[i];
-  return p;
-}
 
 Material copper() {
   const MaterialLibrary lib =
@@ -250,7 +238,7 @@ TEST_CASE("particles fired at a plate stay in front of it", "[verification][conv
       }
     }
   }
-  const Vec3 vc = particleBodyVelocity(m, cloud);
+  const Vec3 vc = bodyMeanVelocity(m, cloud);
   std::printf("[conversion] cloud on plate: worst penetration %.3f d (closest %.3f d in front), "
               "lowest particle %.3f mm above the plate bottom, momentum %.2e, mass %.2e, cloud "
               "vz %.1f m/s\n",
