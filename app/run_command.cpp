@@ -4,10 +4,12 @@
 #include "app/commands.hpp"
 #include "app/progress.hpp"
 
+#include "core/analysis/fragments.hpp"
 #include "core/common/error.hpp"
 #include "core/io/history_csv.hpp"
 #include "core/scene/scene.hpp"
 #include "core/solver/step.hpp"
+#include "core/state/model_build.hpp"
 #include "render/series_writer.hpp"
 
 #include <omp.h>
@@ -53,13 +55,15 @@ void printSummary(const Model& model, double wall_solver, double wall_total,
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     const Body& body = model.bodies[b];
     if (!body.is_projectile) continue;
-    Vec3 p = Vec3::Zero();
-    double m = 0;
-    for (std::size_t a = body.node_begin; a < body.node_end; ++a)
-      p += model.nodes.m[a] * model.nodes.v[a], m += model.nodes.m[a];
-    if (m > 0)
-      std::printf("  projectile '%s'  mean velocity (%.2f, %.2f, %.2f) m/s\n", body.name.c_str(),
-                  p.x() / m, p.y() / m, p.z() / m);
+    const Vec3 v = bodyMeanVelocity(model, static_cast<int>(b));
+    std::printf("  projectile '%s'  mean velocity (%.2f, %.2f, %.2f) m/s\n", body.name.c_str(),
+                v.x(), v.y(), v.z());
+    if (body.elem_end == body.elem_begin) continue;
+    const ResidualVelocity r = residualVelocity(model, static_cast<int>(b));
+    std::printf("  residual velocity %.1f m/s (largest intact piece, %.1f %% of the initial "
+                "mass; %s)\n",
+                r.speed, 100 * r.mass_fraction,
+                r.cleared ? "it has cleared every target" : "not clear of the targets yet");
   }
   std::printf("  output           %s\n", folder.c_str());
 }

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/fragments.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+namespace fesph {
+
+namespace {
+
+// Union-find over node ids with path halving.
+int findRoot(std::vector<int>& parent, int a) {
+  while (parent[a] != a) a = parent[a] = parent[parent[a]];
+  return a;
+}
+
+}  // namespace
+
+std::vector<Piece> bodyPieces(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  const Elements& el = model.elems;
+  const Nodes& nd = model.nodes;
+  std::vector<int> parent(nd.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
+    if (el.status[e] != ElemStatus::Live) continue;
+    const int r0 = findRoot(parent, el.conn[e][0]);
+    for (int k = 1; k < 4; ++k) {
+      const int r = findRoot(parent, el.conn[e][k]);
+      if (r != r0) parent[r] = r0;
+    }
+  }
+  std::vector<int> piece_of(nd.size(), -1);
+  std::vector<Piece> pieces;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+    if (!(nd.m[a] > 0)) continue;
+    const int r = findRoot(parent, static_cast<int>(a));
+    if (piece_of[r] < 0) {
+      piece_of[r] = static_cast<int>(pieces.size());
+      pieces.emplace_back();
+    }
+    Piece& p = pieces[piece_of[r]];
+    p.mass += nd.m[a];
+    p.velocity += nd.m[a] * nd.v[a];
+    p.centroid += nd.m[a] * nd.x[a];
+    p.nodes.push_back(static_cast<int>(a));
+  }
+  for (Piece& p : pieces) p.velocity /= p.mass, p.centroid /= p.mass;
+  std::stable_sort(pieces.begin(), pieces.end(),
+                   [](const Piece& a, const Piece& b) { return a.mass > b.mass; });
+  return pieces;
+}
+
+ResidualVelocity residualVelocity(const Model& model, int body) {
+  ResidualVelocity r;
+  const std::vector<Piece> pieces = bodyPieces(model, body);
+  if (pieces.empty()) return r;
+  const Piece& p = pieces.front();
+  r.velocity = p.velocity;
+  r.speed = p.velocity.norm();
+  const Body& b = model.bodies[body];
+  double initial_mass = 0;
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e)
+    initial_mass += model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
+  r.mass_fraction = initial_mass > 0 ? p.mass / initial_mass : 0.0;
+  if (!(r.speed > 0)) return r;
+  const Vec3 dir = p.velocity / r.speed;
+  double trailing = std::numeric_limits<double>::infinity();
+  for (int a : p.nodes) trailing = std::min(trailing, model.nodes.x[a].dot(dir));
+  double farthest_target = -std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < model.nodes.size(); ++a)
+    if (model.nodes.body[a] != body && model.nodes.m[a] > 0)
+      farthest_target = std::max(farthest_target, model.nodes.x[a].dot(dir));
+  r.cleared = trailing > farthest_target;
+  return r;
+}
+
+}  // namespace fesph

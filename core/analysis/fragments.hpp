@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// Pieces of a body (connected live elements) and the residual velocity of a projectile: the
+// mass-weighted mean velocity of its largest intact piece, the one definition used everywhere.
+#pragma once
+
+#include "core/state/model.hpp"
+
+#include <vector>
+
+namespace fesph {
+
+/// A connected set of live elements of one body (elements sharing a node are connected).
+struct Piece {
+  double mass = 0;              ///< kg, lumped masses of its nodes
+  Vec3 velocity = Vec3::Zero();  ///< mass-weighted mean velocity of its nodes, m/s
+  Vec3 centroid = Vec3::Zero();  ///< mass-weighted mean position, m
+  std::vector<int> nodes;       ///< node ids, ascending
+};
+
+/// The pieces of `body`, largest mass first.
+std::vector<Piece> bodyPieces(const Model& model, int body);
+
+struct ResidualVelocity {
+  double speed = 0;       ///< |velocity| of the largest piece, m/s
+  Vec3 velocity = Vec3::Zero();
+  double mass_fraction = 0;  ///< its mass over the body's initial mass
+  bool cleared = false;   ///< its trailing node is past every other body's nodes along the flight
+};
+
+/// Residual velocity of projectile `body`: its largest intact piece; `cleared` tells whether
+/// that piece has passed every target (no node of another element body lies ahead of the
+/// piece's trailing node along the piece's velocity).
+ResidualVelocity residualVelocity(const Model& model, int body);
+
+}  // namespace fesph
