@@ -16,27 +16,23 @@ namespace {
 void convertElement(Model& model, std::size_t e, double kappa, Trigger why) {
   Elements& el = model.elems;
   const Nodes& nd = model.nodes;
-  {
-    const auto& c = el.conn[e];
-    const double mass = model.materials[el.material[e]].rho0 * el.V0[e];
-    Vec3 x_mean = Vec3::Zero(), v_mean = Vec3::Zero();
-    for (int a : c) x_mean += 0.25 * nd.x[a], v_mean += 0.25 * nd.v[a];
-    double jump = 0;
-    for (int a : c) jump += (nd.v[a] - v_mean).squaredNorm();
-    jump *= mass / 8.0;
+  const double mass = model.materials[el.material[e]].rho0 * el.V0[e];
+  Vec3 x_mean = Vec3::Zero(), v_mean = Vec3::Zero();
+  for (int a : el.conn[e]) x_mean += 0.25 * nd.x[a], v_mean += 0.25 * nd.v[a];
+  double jump = 0;
+  for (int a : el.conn[e]) jump += (nd.v[a] - v_mean).squaredNorm();
+  jump *= mass / 8.0;
 
-    retireElement(model, e, ElemStatus::Converted);
-    appendParticle(model.particles, x_mean, v_mean, mass, el.V[e], std::cbrt(el.V0[e]),
-                       kappa * std::cbrt(el.V[e]), el.state[e], el.body[e], el.material[e],
-                       static_cast<int>(e));
+  retireElement(model, e, ElemStatus::Converted);
+  appendParticle(model.particles, x_mean, v_mean, mass, el.V[e], std::cbrt(el.V0[e]),
+                 kappa * std::cbrt(el.V[e]), el.state[e], el.body[e], el.material[e],
+                 static_cast<int>(e));
 
-    // The half-step kinetic energy changes by the jump; the budget books it as converted.
-    model.energy.kinetic_half -= jump;
-    model.energy.conversion += jump;
-    ++model.conversion.converted;
-    if (why == Trigger::Safety) ++model.conversion.by_safety;
-    if (why == Trigger::Damage) ++model.conversion.by_damage;
-  }
+  // The half-step kinetic energy changes by the jump; the budget books it as converted.
+  model.energy.kinetic_half -= jump;
+  model.energy.conversion += jump;
+  ++model.conversion.converted;
+  countTrigger(model.conversion, why);
 }
 
 }  // namespace

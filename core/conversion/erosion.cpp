@@ -22,19 +22,15 @@ double retireElement(Model& model, std::size_t e, ElemStatus status) {
 }
 
 void erodeElement(Model& model, std::size_t e, Trigger why) {
-  Elements& el = model.elems;
-  {
-    const double mass = model.materials[el.material[e]].rho0 * el.V0[e];
-    const double kinetic = retireElement(model, e, ElemStatus::Eroded);
-    // The half-step kinetic energy the budget carries loses the same amount, so the
-    // average at the next snapshot and the eroded term agree.
-    model.energy.kinetic_half -= kinetic;
-    model.energy.eroded += kinetic + mass * el.state[e].e;
-    model.conversion.eroded_mass += mass;
-    ++model.conversion.eroded;
-    if (why == Trigger::Safety) ++model.conversion.by_safety;
-    if (why == Trigger::Damage) ++model.conversion.by_damage;
-  }
+  const double mass = model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
+  const double kinetic = retireElement(model, e, ElemStatus::Eroded);
+  // The half-step kinetic energy the budget carries loses the same amount, so the average
+  // at the next snapshot and the eroded term agree.
+  model.energy.kinetic_half -= kinetic;
+  model.energy.eroded += kinetic + mass * model.elems.state[e].e;
+  model.conversion.eroded_mass += mass;
+  ++model.conversion.eroded;
+  countTrigger(model.conversion, why);
 }
 
 long erodeElements(Model& model) {

@@ -14,4 +14,10 @@ enum class Trigger { None, PlasticStrain, Damage, Safety };
 /// the stable step) against its first value.
 Trigger elementTrigger(const Model& model, std::size_t e);
 
+/// Count a conversion or erosion under its trigger (plastic strain is the rest).
+inline void countTrigger(ConversionStats& stats, Trigger why) {
+  if (why == Trigger::Safety) ++stats.by_safety;
+  if (why == Trigger::Damage) ++stats.by_damage;
+}
+
 }  // namespace fesph
