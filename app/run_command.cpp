@@ -75,7 +75,11 @@ int runCommand(const RunOptions& opt) {
   Scene scene;
   Model model;
   std::vector<std::string> overrides = opt.overrides;
-  if (opt.end_time > 0) overrides.push_back("simulation.end_time=" + std::to_string(opt.end_time));
+  if (opt.end_time > 0) {
+    char value[32];  // std::to_string would print 1e-7 as 0.000000
+    std::snprintf(value, sizeof value, "%.17g", opt.end_time);
+    overrides.push_back(std::string("simulation.end_time=") + value);
+  }
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   try {
     scene = loadScene(opt.scene, overrides, opt.materials);

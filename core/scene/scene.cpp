@@ -117,6 +117,20 @@ void readConversion(const toml::table* t, const std::string& file, Scene& sc) {
   if (c.min_dt_ratio >= 1) fail(file, where(*t, "min_dt_ratio"), "'min_dt_ratio' must be < 1");
 }
 
+void readSph(const toml::table* t, const std::string& file, Scene& sc) {
+  if (!t) return;
+  allowKeys(*t, file,
+            {"kappa", "av_alpha", "av_beta", "artificial_stress", "dt_factor"}, "[sph]");
+  SphControls& c = sc.sph;
+  c.kappa = positive(*t, "kappa", file, c.kappa);
+  if (c.kappa < 0.8 || c.kappa > 2.5) fail(file, where(*t, "kappa"), "'kappa' must be in [0.8, 2.5]");
+  c.av_alpha = positive(*t, "av_alpha", file, c.av_alpha, true);
+  c.av_beta = positive(*t, "av_beta", file, c.av_beta, true);
+  c.artificial_stress = boolean(*t, "artificial_stress", file, c.artificial_stress);
+  c.dt_factor = positive(*t, "dt_factor", file, c.dt_factor);
+  if (c.dt_factor > 1) fail(file, where(*t, "dt_factor"), "'dt_factor' must be in (0, 1]");
+}
+
 void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
   OutputSpec& o = sc.output;
   o.folder = "runs/" + fs::path(file).stem().string();
@@ -298,14 +312,15 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
   }
   const std::string& file = path;
   allowKeys(root, file,
-            {"title", "simulation", "output", "contact", "conversion", "materials", "bodies",
-             "boundary"},
+            {"title", "simulation", "output", "contact", "conversion", "sph", "materials",
+             "bodies", "boundary"},
             "the scene");
   sc.title = string(root, "title", file, fs::path(path).stem().string());
   readSimulation(*table(root, "simulation", file, true), file, sc);
   readOutput(table(root, "output", file), file, sc);
   readContact(table(root, "contact", file), file, sc);
   readConversion(table(root, "conversion", file), file, sc);
+  readSph(table(root, "sph", file), file, sc);
 
   const std::string lib_path =
       material_library.empty() ? findMaterialLibrary(fs::path(path).parent_path())
@@ -378,6 +393,7 @@ Model buildModel(const Scene& sc, std::ostream* log) {
   Model model;
   model.materials = sc.materials;
   model.controls = sc.controls;
+  model.sph.controls = sc.sph;
   model.walls = sc.walls;
   std::vector<TetMesh> meshes;
   for (const SceneBody& b : sc.bodies) {

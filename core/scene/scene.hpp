@@ -53,6 +53,7 @@ struct Scene {
   std::string text;    ///< its text after --set overrides, for the run's metadata
   std::string title;
   SolverControls controls;
+  SphControls sph;     ///< [sph]: particle parameters
   OutputSpec output;
   bool half = false;   ///< half model cut on y = 0
   std::vector<Material> materials;  ///< the materials the bodies use (overrides applied)

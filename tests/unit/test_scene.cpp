@@ -152,3 +152,15 @@ TEST_CASE("scene overrides from the command line are checked like the file", "[u
   REQUIRE_THROWS_AS(loadScene(path, {"simulation.end_tme=3e-6"}, library()), InputError);
   REQUIRE_THROWS_AS(loadScene(path, {"bodies.4.velocity=[0,0,-5]"}, library()), InputError);
 }
+
+TEST_CASE("the command line end time keeps its precision", "[unit][scene]") {
+  // Regression: --end-time 1e-7 once reached the scene as "0.000000" and was rejected.
+  const std::string path = writeScene("endtime.toml", kGoodScene);
+  const std::string cmd = std::string(FESPH_BINARY) + " run " + path + " --materials " +
+                          library() + " --end-time 1e-7 --no-images --quiet --out " +
+                          (fs::temp_directory_path() / "fesph_scene_tests_endtime").string() +
+                          " > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 0);
+}

@@ -25,8 +25,7 @@ using fesph::testing::lattice;
 
 namespace {
 
-/// One step as fesph::step takes it, with the SPH storage kept between steps (the Model does
-/// not own it yet).
+/// One step as fesph::step takes it, with an explicit SPH workspace (the overloads' own test).
 void advance(Model& m, SphWorkspace& ws) {
   const double dt_last = m.dt;
   m.energy.internal = 0;
