@@ -57,20 +57,28 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   el.V[e] = gn.volume;
   el.rho[e] = mass / gn.volume;
 
-  // bulk viscosity from the volumetric rate (compression only)
-  const double trD = D.trace();
-  const double c_wave = waveSpeed(mat, el.rho[e]);
-  const double len = smallestAltitude(x[0], x[1], x[2], x[3], gn.volume);
+  el.div_v[e] = D.trace();
+  el.len[e] = smallestAltitude(x[0], x[1], x[2], x[3], gn.volume);
+  if (el.len0[e] == 0) el.len0[e] = el.len[e];
+  return wp * gm.volume;
+}
+
+// Bulk viscosity (compression only) and the stable step l / (Q + sqrt(Q^2 + c^2)). The
+// volumetric stiffness the element sees blends its nodes' average (ANP) and its own: the wave
+// speed is the matching blend of the tangents at the two densities.
+void viscosityAndStableStep(Model& model, std::size_t e, double rho_avg, double own_fraction) {
+  Elements& el = model.elems;
+  const Material& mat = model.materials[el.material[e]];
   const SolverControls& ctl = model.controls;
+  const double trD = el.div_v[e], len = el.len[e];
+  const double c_avg = waveSpeed(mat, rho_avg), c_own = waveSpeed(mat, el.rho[e]);
+  const double c_wave =
+      std::sqrt((1 - own_fraction) * c_avg * c_avg + own_fraction * c_own * c_own);
   el.q[e] = trD < 0 ? el.rho[e] * len * (ctl.bulk_quadratic * len * trD * trD -
-                                          ctl.bulk_linear * c_wave * trD)
+                                         ctl.bulk_linear * c_wave * trD)
                     : 0.0;
-  // stable step with the viscosity correction: l / (Q + sqrt(Q^2 + c^2))
   const double Q = trD < 0 ? ctl.bulk_linear * c_wave + ctl.bulk_quadratic * len * (-trD) : 0.0;
   el.dt[e] = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
-  el.len[e] = len;
-  if (el.len0[e] == 0) el.len0[e] = len;
-  return wp * gm.volume;
 }
 
 }  // namespace
@@ -130,21 +138,31 @@ void computeElementForces(Model& model, double dt_last) {
     PointState& st = el.state[e];
     const double mass = mat.rho0 * el.V0[e];
 
-    // Volumetric deformation: the element's own, or the mean of its nodes' (ANP).
+    // Volumetric deformation: the element's own, or the mean of its nodes' (ANP) blended with
+    // a small share of its own. Pure ANP leaves an element's own volume unresisted: rim
+    // elements of a Taylor bar were crushed to V/V0 = 0.45 and the step fell below 1 ns.
     double rho_vol = el.rho[e];
+    double own = 1.0;
     if (anp) {
       double J = 0;
       for (int a = 0; a < 4; ++a) J += model.nodal_volume[c[a]] / model.nodal_volume0[c[a]];
       rho_vol = mat.rho0 / (0.25 * J);
+      own = model.controls.anp_element_fraction;
     }
+    viscosityAndStableStep(model, e, rho_vol, own);
     // Energy over the interval, trapezoidal in pressure: one predictor, one corrector,
     // since the Mie-Grueneisen pressure depends on the energy it updates.
     const double dV = el.dV[e];
     const double p_old = st.p, q = el.q[e];
-    double p_new = eosPressure(mat, rho_vol, st.e - (p_old + q) * dV / mass, st.damage);
+    auto pressure = [&](double e_spec) {
+      const double p_avg = eosPressure(mat, rho_vol, e_spec, st.damage);
+      return own == 1.0 ? p_avg
+                        : (1 - own) * p_avg + own * eosPressure(mat, el.rho[e], e_spec, st.damage);
+    };
+    double p_new = pressure(st.e - (p_old + q) * dV / mass);
     const double vol_work = -(0.5 * (p_old + p_new) + q) * dV;
     st.e += vol_work / mass;
-    p_new = eosPressure(mat, rho_vol, st.e, st.damage);
+    p_new = pressure(st.e);
     st.p = p_new;
     q_work_sum += -q * dV;
 

@@ -72,7 +72,7 @@ std::string findMaterialLibrary(const fs::path& scene_dir) {
 void readSimulation(const toml::table& t, const std::string& file, Scene& sc) {
   allowKeys(t, file,
             {"end_time", "courant", "bulk_linear", "bulk_quadratic", "average_nodal_pressure",
-             "symmetry", "dt_min", "dt_growth"},
+             "anp_element_fraction", "symmetry", "dt_min", "dt_growth"},
             "[simulation]");
   SolverControls& c = sc.controls;
   c.end_time = positive(t, "end_time", file);
@@ -81,6 +81,9 @@ void readSimulation(const toml::table& t, const std::string& file, Scene& sc) {
   c.bulk_linear = positive(t, "bulk_linear", file, 0.06, true);
   c.bulk_quadratic = positive(t, "bulk_quadratic", file, 1.5, true);
   c.average_nodal_pressure = boolean(t, "average_nodal_pressure", file, true);
+  c.anp_element_fraction = positive(t, "anp_element_fraction", file, c.anp_element_fraction, true);
+  if (c.anp_element_fraction > 1)
+    fail(file, where(t, "anp_element_fraction"), "'anp_element_fraction' must be in [0, 1]");
   c.dt_min = positive(t, "dt_min", file, 1e-13);
   c.dt_growth = positive(t, "dt_growth", file, 1.1);
   if (c.dt_growth < 1.0) fail(file, where(t, "dt_growth"), "'dt_growth' must be >= 1");

@@ -40,6 +40,7 @@ struct Elements {
   std::vector<double> dV;                ///< volume change over the last interval, m^3
   std::vector<double> rho;               ///< current density, kg/m^3
   std::vector<double> q;                 ///< bulk viscosity pressure, Pa
+  std::vector<double> div_v;             ///< volumetric strain rate tr(D) of the last interval, 1/s
   std::vector<double> dt;                ///< stable time step estimate, s
   std::vector<double> len, len0;         ///< smallest altitude now and at the first step, m
   std::vector<PointState> state;         ///< stress and history variables
@@ -156,6 +157,9 @@ struct SolverControls {
   double bulk_linear = 0.06;     ///< linear bulk viscosity coefficient
   double bulk_quadratic = 1.5;   ///< quadratic bulk viscosity coefficient
   bool average_nodal_pressure = true;  ///< ANP on the volumetric part (anti-locking)
+  /// Share of the element's own volumetric response blended into ANP, so that an element's
+  /// own volume cannot collapse unresisted (0: pure ANP; 1: no averaging).
+  double anp_element_fraction = 0.01;
   double dt_growth = 1.1;        ///< largest step-to-step growth of dt
   double dt_min = 1e-13;         ///< a step below this stops the run, s
 };

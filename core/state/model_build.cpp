@@ -48,6 +48,7 @@ int addBody(Model& model, const std::string& name, const TetMesh& mesh, int mate
     el.dV.push_back(0.0);
     el.rho.push_back(mat.rho0);
     el.q.push_back(0.0);
+    el.div_v.push_back(0.0);
     el.dt.push_back(0.0);
     el.len.push_back(0.0);
     el.len0.push_back(0.0);

@@ -45,6 +45,7 @@ void addTet(Model& m, std::array<int, 4> c, int body) {
   m.elems.dV.push_back(0.0);
   m.elems.rho.push_back(7800.0);
   m.elems.q.push_back(0.0);
+  m.elems.div_v.push_back(0.0);
   m.elems.dt.push_back(1e-7);
   m.elems.state.emplace_back();
   m.elems.status.push_back(ElemStatus::Live);
