@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Figures of merit of the solver loops (Google Benchmark; JSON with --benchmark_format=json):
-// a full FE step (tet4 + Johnson-Cook + ANP + EOS + bulk viscosity + gather) per element.
+// a full FE step (tet4 + elastic or Johnson-Cook + ANP + EOS + bulk viscosity + gather).
 // Threads follow OMP_NUM_THREADS. Not a test: run `build/fesph_bench`.
 #include "core/material/library.hpp"
 #include "core/solver/step.hpp"
@@ -12,11 +12,13 @@ using namespace fesph;
 
 namespace {
 
-// A copper block in plastic compression: every element takes the Johnson-Cook return path.
-Model plasticBlock(int n) {
+// A block in compression: with OFHC copper every element takes the Johnson-Cook return path;
+// with the elastic material, the linear elastic solver of the foundation.
+Model block(int n, bool plastic) {
   const MaterialLibrary lib =
       MaterialLibrary::load(std::string(FESPH_SOURCE_DIR) + "/scenes/materials.toml");
-  Model m = fesph::testing::boxModel(lib.get("OFHC_copper"), Vec3(1e-2, 1e-2, 1e-2), n, n, n);
+  const Material mat = plastic ? lib.get("OFHC_copper") : fesph::testing::elasticMaterial();
+  Model m = fesph::testing::boxModel(mat, Vec3(1e-2, 1e-2, 1e-2), n, n, n);
   for (std::size_t a = 0; a < m.nodes.size(); ++a) {
     const Vec3 x = m.nodes.x0[a] - Vec3(5e-3, 5e-3, 5e-3);
     m.nodes.v[a] = Vec3(50 * x.x() / 5e-3, 50 * x.y() / 5e-3, -100 * x.z() / 5e-3);
@@ -26,7 +28,7 @@ Model plasticBlock(int n) {
 }
 
 void BM_FeStep(benchmark::State& state) {
-  Model m = plasticBlock(static_cast<int>(state.range(0)));
+  Model m = block(static_cast<int>(state.range(0)), state.range(1) != 0);
   for (int i = 0; i < 5; ++i) step(m, 1.0);  // warm up: plastic flow under way
   for (auto _ : state) step(m, 1.0);
   const double elements = static_cast<double>(m.elems.size());
@@ -42,7 +44,12 @@ void BM_FeStep(benchmark::State& state) {
 
 }  // namespace
 
-// 6 n^3 tets: 6k, 48k, 96k (the 100k-element figure), 202k
-BENCHMARK(BM_FeStep)->Arg(10)->Arg(20)->Arg(25)->Arg(32)->Unit(benchmark::kMillisecond)->UseRealTime();
+// 6 n^3 tets: 6k, 48k, 94k (the 100k-element figure), 197k; second argument: 1 plastic
+// (Johnson-Cook copper), 0 elastic
+BENCHMARK(BM_FeStep)
+    ->ArgsProduct({{10, 20, 25, 32}, {0, 1}})
+    ->ArgNames({"n", "plastic"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 BENCHMARK_MAIN();
