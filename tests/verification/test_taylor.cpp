@@ -54,11 +54,11 @@ TEST_CASE("Taylor code benchmark: copper at 227 m/s", "[verification][taylor][sl
     CHECK(r.foot_radius < 1.02 * 7.22e-3);
     CHECK(r.balance < 0.01);
   }
-  // Without ANP the linear tet locks: reported next to the above, expected stiffer (a longer
-  // bar and a smaller foot).
+  // Without ANP the linear tet locks volumetrically: reported next to the above; the foot
+  // cannot spread (measured 6.16 mm at 0.6 mm, 13 % under the range).
   const TaylorResult locked =
       runTaylor("taylor_benchmark/scene.toml", {"simulation.average_nodal_pressure=false"});
-  CHECK(locked.length > 21.48e-3);
+  CHECK(locked.foot_radius < 0.98 * 7.11e-3);
 }
 
 TEST_CASE("Taylor experiment: OFHC copper at 190 m/s (Johnson & Cook 1983)",
@@ -71,5 +71,5 @@ TEST_CASE("Taylor experiment: OFHC copper at 190 m/s (Johnson & Cook 1983)",
   CHECK(r.balance < 0.01);
   const TaylorResult locked =
       runTaylor("taylor_ofhc_1983/scene.toml", {"simulation.average_nodal_pressure=false"});
-  CHECK(locked.length > r.length);
+  CHECK(locked.foot_radius < r.foot_radius);  // locking: a smaller foot
 }
