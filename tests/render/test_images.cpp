@@ -11,6 +11,8 @@
 #include "core/mesh/structured_box.hpp"
 #include "tests/support/models.hpp"
 
+#include "tests/support/temp_folder.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <vtkDoubleArray.h>
@@ -30,21 +32,10 @@
 #include <unistd.h>
 
 using namespace fesph;
+using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct TempFolder {
-  fs::path path;
-  explicit TempFolder(const std::string& name)
-      : path(fs::temp_directory_path() / ("fesph_images_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempFolder() {
-    if (!std::getenv("FESPH_KEEP_TEST_IMAGES")) fs::remove_all(path);
-  }
-};
 
 /// RGB pixels of a PNG, row 0 at the bottom (VTK's image order).
 struct Image {

@@ -3,6 +3,8 @@
 // VTK's XML reader (live cells only, arrays, exact values, times, .pvd, no temporary files).
 #include "render/series_writer.hpp"
 
+#include "tests/support/temp_folder.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <vtkCellData.h>
@@ -18,20 +20,10 @@
 #include <unistd.h>
 
 using namespace fesph;
+using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// A fresh, empty folder under the system temp directory, removed again at scope exit.
-struct TempFolder {
-  fs::path path;
-  explicit TempFolder(const std::string& name)
-      : path(fs::temp_directory_path() /
-             ("fesph_series_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-  }
-  ~TempFolder() { fs::remove_all(path); }
-};
 
 void addTet(Model& m, std::array<int, 4> c, int body) {
   const Vec3& a = m.nodes.x0[c[0]];
