@@ -49,6 +49,22 @@ inline Vec3 totalMomentum(const Model& m) {
   return p;
 }
 
+/// Arrival time of a wave front that takes a station from -v0 to rest: the first time the
+/// station velocity `probe()` rises past -v0/2 (half of the jump), interpolated linearly
+/// between the steps `advance()` takes; -1 if it has not arrived by t_end.
+template <class Advance, class Probe>
+double halfJumpArrival(Model& m, double v0, double t_end, Advance advance, Probe probe) {
+  double t_prev = m.time, v_prev = -v0;
+  while (m.time < t_end) {
+    advance();
+    const double v = probe();
+    if (v > -0.5 * v0) return t_prev + (m.time - t_prev) * (-0.5 * v0 - v_prev) / (v - v_prev);
+    t_prev = m.time;
+    v_prev = v;
+  }
+  return -1.0;
+}
+
 /// One body: a structured box mesh of `mat` with uniform velocity.
 inline Model boxModel(const Material& mat, const Vec3& size, int nx, int ny, int nz,
                       const Vec3& velocity = Vec3::Zero()) {

@@ -32,18 +32,8 @@ TEST_CASE("elastic bar: the front speed is sqrt(E/rho) within 2%", "[verificatio
   };
 
   const double c_bar = std::sqrt(steel.E / steel.rho0);
-  double t_prev = 0, v_prev = -v0, arrival = -1;
-  while (m.time < 1.5 * (0.5 * L / c_bar)) {
-    step(m, 1.0);
-    const double v = stationVelocity();
-    if (v > -0.5 * v0 && arrival < 0) {
-      // linear interpolation between the two steps around the crossing
-      arrival = t_prev + (m.time - t_prev) * (-0.5 * v0 - v_prev) / (v - v_prev);
-      break;
-    }
-    t_prev = m.time;
-    v_prev = v;
-  }
+  const double arrival = fesph::testing::halfJumpArrival(
+      m, v0, 1.5 * (0.5 * L / c_bar), [&] { step(m, 1.0); }, stationVelocity);
   REQUIRE(arrival > 0);
   const double speed = 0.5 * L / arrival;
   INFO("front speed " << speed << " m/s, bar speed " << c_bar << " m/s");

@@ -95,17 +95,8 @@ TEST_CASE("sph elastic bar: the front speed is sqrt(E/rho) within 3%", "[verific
 
   const double c_bar = std::sqrt(m.materials[0].E / m.materials[0].rho0);
   SphWorkspace ws;
-  double t_prev = 0, v_prev = -v0, arrival = -1;
-  while (m.time < 1.5 * (0.5 * L / c_bar)) {
-    advance(m, ws, particleWallZ);
-    const double v = stationVelocity();
-    if (v > -0.5 * v0) {
-      arrival = t_prev + (m.time - t_prev) * (-0.5 * v0 - v_prev) / (v - v_prev);
-      break;
-    }
-    t_prev = m.time;
-    v_prev = v;
-  }
+  const double arrival = fesph::testing::halfJumpArrival(
+      m, v0, 1.5 * (0.5 * L / c_bar), [&] { advance(m, ws, particleWallZ); }, stationVelocity);
   REQUIRE(arrival > 0);
   const double speed = 0.5 * L / arrival;
   INFO("front speed " << speed << " m/s, bar speed " << c_bar << " m/s, error "
