@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+// One run of a scene, driven in pieces: open (read, mesh, create the writers), advance to a
+// time or by a number of steps (output at the scene's cadence, history rows), summary.
+// `fesph run` drives it to the end time; an interactive shell can drive it step by step.
+#pragma once
+
+#include "core/io/history_csv.hpp"
+#include "core/scene/scene.hpp"
+#include "core/state/model.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fesph {
+
+class SeriesWriter;
+
+/// Why RunSession::advance returned.
+enum class StopReason {
+  EndTime,      ///< the scene's end time is reached: the run is complete
+  Limit,        ///< the requested time or step count is reached
+  Interrupted,  ///< the stop flag was set (checked after every step)
+  Failed,       ///< the solver threw a RunError: see RunSession::failure()
+};
+
+class RunSession {
+ public:
+  RunSession();
+  ~RunSession();
+  RunSession(const RunSession&) = delete;
+  RunSession& operator=(const RunSession&) = delete;
+
+  /// Read the scene (with `--set` style overrides), mesh it, create the output folder (empty
+  /// `out_folder`: the scene's [output].folder), write scene.toml and open the series and
+  /// history writers. Meshing figures go to `log` when given.
+  /// Throws InputError (bad scene) or RunError (output folder or files not writable).
+  void open(const std::string& scene_path, const std::vector<std::string>& overrides,
+            const std::string& out_folder, const std::string& material_library = "",
+            std::ostream* log = nullptr);
+
+  /// Step until the model time reaches `until_time` (the step that crosses it is not cut
+  /// short, so how a run is split into advances never changes its results), `max_steps`
+  /// steps are done (< 0: no limit), the end time is reached or `*stop` becomes true.
+  /// The first call writes the initial output. Fields are written at the scene's interval,
+  /// history rows every [output].history_every steps and once at the end time.
+  /// A RunError stops the run: the history gets its last row and Failed is returned.
+  StopReason advance(double until_time, long max_steps = -1,
+                     const std::atomic<bool>* stop = nullptr);
+
+  /// Called after every step (progress display, live views).
+  void onStep(std::function<void(const Model&)> callback) { on_step_ = std::move(callback); }
+
+  /// The end time is reached (advance has nothing left to do).
+  bool complete() const;
+  /// The RunError message of a failed advance; empty otherwise.
+  const std::string& failure() const { return failure_; }
+
+  /// Print the run summary (counts, wall time, energy budget, projectile figures) to stdout.
+  void printSummary() const;
+
+  const Model& model() const { return model_; }
+  Model& model() { return model_; }
+  const Scene& scene() const { return scene_; }
+  const std::string& folder() const { return scene_.output.folder; }
+  double endTime() const { return model_.controls.end_time; }
+
+ private:
+  void writeOutput();
+
+  Scene scene_;
+  Model model_;
+  std::unique_ptr<SeriesWriter> series_;
+  std::unique_ptr<HistoryCsv> history_;
+  std::function<void(const Model&)> on_step_;
+  std::string failure_;
+  bool started_ = false;     ///< the initial output is written
+  long output_index_ = 0;    ///< field outputs written after the initial one
+  double next_output_ = 0;   ///< time of the next field output, s
+  double wall_solver_ = 0;   ///< s spent in step()
+  double element_steps_ = 0; ///< live elements summed over the steps
+  std::chrono::steady_clock::time_point opened_;
+};
+
+}  // namespace fesph
