@@ -36,4 +36,19 @@ int renderCommand(const RenderOptions& opt);
 void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
                int height, const std::string& out_dir);
 
+struct CompareCommandOptions {
+  std::string run_dir;
+  std::string plate = "1";    ///< 1-based plate number (bodies that are not projectiles) or name
+  std::string image;          ///< photograph of the tested plate
+  double mm_per_px = 0;       ///< the photograph's scale
+  std::string center;         ///< "X,Y": pixel of the plate's centre; empty: align the holes
+  double threshold = -1;      ///< brightness in (0, 1); < 0: Otsu's
+  std::string holes = "dark"; ///< dark or bright holes
+  std::string face = "front"; ///< the face photographed: front or rear
+  double time = -1;           ///< output time of the run; < 0: the last
+  std::string out;            ///< folder; empty: RUN_DIR/compare
+};
+
+int compareCommand(const CompareCommandOptions& opt);
+
 }  // namespace fesph

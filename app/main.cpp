@@ -3,6 +3,7 @@
 // Sub-commands:
 //   run SCENE      mesh and run a scene, writing a ParaView series, histories and images
 //   render RUN_DIR draw the report images of a finished run
+//   compare RUN_DIR --plate N --image PHOTO --mm-per-px S   holes of a photograph vs the run
 #include "app/commands.hpp"
 
 #include <CLI/CLI.hpp>
@@ -43,6 +44,30 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--size", render.size, "Image size WxH in pixels (default 1600x1200)");
   render_cmd->add_option("--out", render.out, "Image folder (default RUN_DIR/images)");
 
+  fesph::CompareCommandOptions compare;
+  CLI::App* compare_cmd = app.add_subcommand(
+      "compare", "Holes in a photograph of a tested plate against the simulated plate");
+  compare_cmd->add_option("run_dir", compare.run_dir, "Run folder (holds elements.pvd)")
+      ->required()->check(CLI::ExistingDirectory);
+  compare_cmd->add_option("--plate", compare.plate,
+                          "Plate: number (1 = first body that is not a projectile) or name");
+  compare_cmd->add_option("--image", compare.image, "Photograph (PNG, JPEG, TIFF, BMP, PNM)")
+      ->required()->check(CLI::ExistingFile);
+  compare_cmd->add_option("--mm-per-px", compare.mm_per_px, "Photograph scale, mm per pixel")
+      ->required()->check(CLI::PositiveNumber);
+  compare_cmd->add_option("--center", compare.center,
+                          "X,Y: pixel (column, row from the top left) of the plate's centre "
+                          "(default: align the holes' centroids)");
+  compare_cmd->add_option("--threshold", compare.threshold,
+                          "Brightness in (0, 1) between holes and plate (default: Otsu's)")
+      ->check(CLI::Range(0.0, 1.0));
+  compare_cmd->add_option("--holes", compare.holes, "Holes are dark (default) or bright")
+      ->check(CLI::IsMember({"dark", "bright"}));
+  compare_cmd->add_option("--face", compare.face, "Face photographed: front (default) or rear")
+      ->check(CLI::IsMember({"front", "rear"}));
+  compare_cmd->add_option("--time", compare.time, "Output time of the run in s (default: the last)");
+  compare_cmd->add_option("--out", compare.out, "Output folder (default RUN_DIR/compare)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -51,5 +76,6 @@ int main(int argc, char** argv) {
   }
   if (*run_cmd) return fesph::runCommand(run);
   if (*render_cmd) return fesph::renderCommand(render);
+  if (*compare_cmd) return fesph::compareCommand(compare);
   return 2;
 }

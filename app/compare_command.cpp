@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: MIT
+// `fesph compare`: the holes in a photograph of a tested plate against the simulated plate of a
+// run: hole count, areas, equivalent diameters, intersection-over-union, and the images.
+#include "app/commands.hpp"
+
+#include "core/common/error.hpp"
+#include "render/photo_compare.hpp"
+#include "render/plate_images.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace fesph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Body index of plate `which`: a 1-based number among the bodies that are not projectiles,
+// or a body name.
+int plateBody(const RunInfo& info, const std::string& which) {
+  std::vector<int> plates;
+  std::string names;
+  for (std::size_t b = 0; b < info.bodies.size(); ++b) {
+    if (info.bodies[b].projectile) continue;
+    plates.push_back(static_cast<int>(b));
+    names += (names.empty() ? "" : ", ") + std::to_string(plates.size()) + " = '" +
+             info.bodies[b].name + "'";
+  }
+  for (int b : plates)
+    if (info.bodies[b].name == which) return b;
+  if (!which.empty() && which.find_first_not_of("0123456789") == std::string::npos) {
+    const std::size_t n = std::stoul(which);
+    if (n >= 1 && n <= plates.size()) return plates[n - 1];
+  }
+  throw std::invalid_argument("--plate " + which + ": no such plate; the run has " +
+                              (names.empty() ? std::string("none") : names));
+}
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", x);
+  return buf;
+}
+
+void printHoles(const char* what, const std::vector<HoleSize>& holes) {
+  std::printf("  %s: %zu hole%s\n", what, holes.size(), holes.size() == 1 ? "" : "s");
+  for (std::size_t k = 0; k < holes.size(); ++k)
+    std::printf("    %2zu  area %9.3f mm2  equivalent diameter %7.3f mm  centroid (%.2f, %.2f) mm\n",
+                k + 1, holes[k].area * 1e6, holes[k].diameter * 1e3, holes[k].centroid.x() * 1e3,
+                holes[k].centroid.y() * 1e3);
+}
+
+void writeCsv(const std::string& path, const HoleComparison& c) {
+  std::ofstream out(path, std::ios::trunc);
+  out << "source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m\n";
+  const auto rows = [&](const char* source, const std::vector<HoleSize>& holes) {
+    for (std::size_t k = 0; k < holes.size(); ++k)
+      out << source << ',' << k + 1 << ',' << num(holes[k].area) << ',' << num(holes[k].diameter)
+          << ',' << num(holes[k].centroid.x()) << ',' << num(holes[k].centroid.y()) << '\n';
+  };
+  rows("photo", c.photo);
+  rows("simulation", c.simulated);
+  if (!out) throw RunError("cannot write " + path);
+}
+
+void writeJson(const std::string& path, const CompareOptions& o, const std::string& plate,
+               double time, const std::string& image, const PhotoSegmentation& seg,
+               const HoleComparison& c, const Eigen::Vector2d& centre_px) {
+  std::ofstream out(path, std::ios::trunc);
+  const auto holes = [&](const std::vector<HoleSize>& list) {
+    std::string s = "[";
+    for (std::size_t k = 0; k < list.size(); ++k)
+      s += std::string(k ? ", " : "") + "{\"area_m2\": " + num(list[k].area) +
+           ", \"diameter_m\": " + num(list[k].diameter) + ", \"centroid_uv_m\": [" +
+           num(list[k].centroid.x()) + ", " + num(list[k].centroid.y()) + "]}";
+    return s + "]";
+  };
+  std::string quoted = "\"";
+  for (char ch : image) quoted += (ch == '"' || ch == '\\') ? std::string("\\") + ch : std::string(1, ch);
+  quoted += "\"";
+  out << "{\n  \"plate\": \"" << plate << "\",\n  \"time_s\": " << num(time)
+      << ",\n  \"image\": " << quoted << ",\n  \"width_px\": " << seg.width
+      << ", \"height_px\": " << seg.height << ",\n  \"m_per_px\": " << num(o.m_per_px)
+      << ",\n  \"face\": \"" << (o.rear ? "rear" : "front") << "\",\n  \"threshold\": "
+      << num(seg.threshold) << ", \"threshold_automatic\": " << (seg.automatic ? "true" : "false")
+      << ",\n  \"registration\": \"" << (o.centre_px ? "centre given" : "hole centroids aligned")
+      << "\", \"plate_centre_px\": [" << num(centre_px.x()) << ", " << num(centre_px.y()) << "],\n  \"iou\": " << num(c.iou)
+      << ", \"photo_px\": " << c.photo_px << ", \"simulation_px\": " << c.simulated_px
+      << ", \"both_px\": " << c.both_px << ",\n  \"photo_holes\": " << holes(c.photo)
+      << ",\n  \"simulation_holes\": " << holes(c.simulated) << "\n}\n";
+  if (!out) throw RunError("cannot write " + path);
+}
+
+}  // namespace
+
+int compareCommand(const CompareCommandOptions& opt) {
+  CompareOptions co;
+  co.m_per_px = opt.mm_per_px * 1e-3;
+  co.rear = opt.face == "rear";
+  if (!opt.center.empty()) {
+    double x = 0, y = 0;
+    char tail = 0;
+    if (std::sscanf(opt.center.c_str(), "%lf,%lf%c", &x, &y, &tail) != 2) {
+      std::fprintf(stderr, "error: --center must be X,Y in pixels (column, row from the top left), got '%s'\n",
+                   opt.center.c_str());
+      return 2;
+    }
+    co.centre_px = Eigen::Vector2d(x, y);
+  }
+  SegmentOptions so;
+  so.threshold = opt.threshold;
+  so.dark_holes = opt.holes == "dark";
+  if (!fs::exists(fs::path(opt.run_dir) / "elements.pvd")) {
+    std::fprintf(stderr, "error: %s is not a run folder (no elements.pvd)\n", opt.run_dir.c_str());
+    return 2;
+  }
+  try {
+    const RunInfo info = readRunInfo(opt.run_dir);
+    const int body = plateBody(info, opt.plate);
+    const std::string& name = info.bodies[body].name;
+    const GrayImage photo = readPhoto(opt.image);
+    double time = 0;
+    const SimulatedPlate plate = readSimulatedPlate(opt.run_dir, opt.time, body, info.half, &time);
+    const PhotoSegmentation seg = segmentHoles(photo, so);
+    const HoleComparison cmp = compareHoles(seg, plate, co);
+
+    std::printf("fesph compare: plate '%s' at t = %.3f us against %s (%d x %d px, %.4g mm/px, %s face)\n",
+                name.c_str(), time * 1e6, opt.image.c_str(), photo.width, photo.height,
+                opt.mm_per_px, co.rear ? "rear" : "front");
+    std::printf("  threshold %.4f (%s), holes %s\n", seg.threshold,
+                seg.automatic ? "Otsu" : "given", so.dark_holes ? "dark" : "bright");
+    const Eigen::Vector2d c0 = cmp.frame.toPixel(Eigen::Vector2d::Zero());
+    std::printf("  registration: plate centre at pixel (%.1f, %.1f) (%s)\n", c0.x(), c0.y(),
+                co.centre_px ? "given" : "holes' centroids aligned");
+    printHoles("photograph", cmp.photo);
+    printHoles("simulation", cmp.simulated);
+    std::printf("  IoU %.4f (overlap %zu px, photograph %zu px, simulation %zu px)\n", cmp.iou,
+                cmp.both_px, cmp.photo_px, cmp.simulated_px);
+
+    const std::string out = opt.out.empty() ? opt.run_dir + "/compare" : opt.out;
+    fs::create_directories(out);
+    const std::string stem = out + "/" + name + "_compare";
+    writeSideBySide(photo, seg, cmp, plate, stem + "_side.png");
+    writeOverlay(photo, seg, cmp, stem + "_overlay.png");
+    writeCsv(stem + ".csv", cmp);
+    writeJson(stem + ".json", co, name, time, opt.image, seg, cmp, c0);
+    std::printf("  side by side: %s_side.png (photograph, holes red | simulation, holes blue)\n"
+                "  overlay:      %s_overlay.png (green both, red photograph only, blue simulation only)\n"
+                "  data:         %s.csv, %s.json\n",
+                stem.c_str(), stem.c_str(), stem.c_str(), stem.c_str());
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const RunError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace fesph

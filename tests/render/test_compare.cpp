@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+// `fesph compare` end to end: a run folder with a perforated plate written by SeriesWriter, a
+// synthetic photograph of it written as PNG (and JPEG), the command run as a user would, and
+// its report, images and data files checked.
+#include "render/photo_compare.hpp"
+#include "render/series_writer.hpp"
+
+#include "core/mesh/structured_box.hpp"
+#include "core/state/model_build.hpp"
+#include "tests/support/models.hpp"
+#include "tests/support/temp_folder.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <vtkImageData.h>
+#include <vtkJPEGWriter.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+
+using namespace fesph;
+using fesph::testing::TempFolder;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double mm = 1e-3;
+
+/// Body 0 "bullet" (projectile), body 1 "plate": 40 x 40 x 2 mm of 1 mm cubes centred on the
+/// axis with the cube columns within 6 mm of (hx, hy) mm eroded.
+void writeRun(const fs::path& dir, double hx, double hy) {
+  Model model;
+  model.materials.push_back(testing::elasticMaterial());
+  Placement behind;
+  behind.translation = Vec3(-2 * mm, -2 * mm, 10 * mm);
+  addBody(model, "bullet", structuredBox(Vec3::Zero(), Vec3(4 * mm, 4 * mm, 4 * mm), 2, 2, 2), 0,
+          behind, Vec3(0, 0, -300), true);
+  addBody(model, "plate",
+          structuredBox(Vec3(-20 * mm, -20 * mm, -2 * mm), Vec3(40 * mm, 40 * mm, 2 * mm), 40, 40, 2),
+          0, Placement{}, Vec3::Zero(), false);
+  finaliseModel(model);
+  const Body& plate = model.bodies[1];
+  for (std::size_t e = plate.elem_begin; e < plate.elem_end; ++e) {
+    Vec3 c = Vec3::Zero();
+    for (int n : model.elems.conn[e]) c += 0.25 * model.nodes.x[n];
+    const double cx = std::floor(c.x() / mm) + 0.5, cy = std::floor(c.y() / mm) + 0.5;
+    if (std::hypot(cx - hx, cy - hy) < 6) model.elems.status[e] = ElemStatus::Eroded;
+  }
+  SeriesWriter(dir).write(model, 20e-6);
+  std::ofstream(dir / "scene.toml") << "[[bodies]]\nname = \"bullet\"\nprojectile = true\n"
+                                       "[[bodies]]\nname = \"plate\"\n";
+}
+
+/// Photograph of the front face at 0.08 mm/px, the plate's centre at pixel (centre): a plate lit
+/// from 0.55 (left) to 0.75 (right) on a dark background, a hole of radius 6 mm at (hx, hy) mm,
+/// blurred and noisy.
+GrayImage photograph(Eigen::Vector2d centre, double hx, double hy) {
+  const int w = 640, h = 560;
+  GrayImage ideal{w, h, std::vector<float>(static_cast<std::size_t>(w) * h)};
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const double a = (i + 0.5 - centre.x()) * 0.08, b = -(j + 0.5 - centre.y()) * 0.08;
+      const double ca = std::floor(a) + 0.5, cb = std::floor(b) + 0.5;
+      const bool plate = std::abs(a) < 20 && std::abs(b) < 20 && std::hypot(ca - hx, cb - hy) >= 6;
+      ideal.value[static_cast<std::size_t>(j) * w + i] =
+          static_cast<float>(plate ? 0.55 + 0.2 * i / w : 0.1);
+    }
+  GrayImage photo = ideal;
+  std::mt19937 rng(7);
+  const auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double s = 0;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di)
+          s += ideal.at(std::clamp(i + di, 0, w - 1), std::clamp(j + dj, 0, h - 1));
+      const double noise = 0.04 * std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform());
+      photo.value[static_cast<std::size_t>(j) * w + i] = static_cast<float>(std::clamp(s / 9 + noise, 0.0, 1.0));
+    }
+  return photo;
+}
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+Result runFesph(const std::string& args) {
+  const std::string cmd = std::string(FESPH_BINARY) + " " + args + " 2>&1";
+  Result r{0, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
+  r.code = WEXITSTATUS(pclose(p));
+  return r;
+}
+
+double jsonNumber(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\": ([-0-9.eE+]+)"))) return NAN;
+  return std::stod(m[1]);
+}
+
+std::string slurp(const fs::path& p) {
+  std::stringstream s;
+  s << std::ifstream(p).rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate", "[unit][render]") {
+  unsetenv("DISPLAY");
+  TempFolder dir("compare");
+  writeRun(dir.path / "run", 0, 0);
+  const Eigen::Vector2d centre(330.0, 270.0);
+  writeGrayPng(photograph(centre, 0, 0), (dir.path / "match.png").string());
+  writeGrayPng(photograph(centre, 8, 0), (dir.path / "shifted.png").string());
+  const std::string run = (dir.path / "run").string();
+  const std::string base = run + " --plate 1 --mm-per-px 0.08 --center 330,270";
+
+  SECTION("the matching photograph") {
+    const Result r = runFesph("compare " + base + " --image " + (dir.path / "match.png").string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("photograph: 1 hole") != std::string::npos);
+    CHECK(r.out.find("simulation: 1 hole") != std::string::npos);
+    CHECK(r.out.find("(Otsu)") != std::string::npos);
+    const fs::path out = dir.path / "run" / "compare";
+    const std::string json = slurp(out / "plate_compare.json");
+    CHECK(jsonNumber(json, "iou") >= 0.9);
+    // The photograph's hole: the 112 removed columns of 1 mm^2, within 3 %.
+    CHECK(jsonNumber(json, "area_m2") == Approx(112e-6).epsilon(0.03));
+    const std::string csv = slurp(out / "plate_compare.csv");
+    CHECK(csv.rfind("source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m\nphoto,1,", 0) == 0);
+    CHECK(csv.find("\nsimulation,1,") != std::string::npos);
+
+    // Side by side is two photographs wide; the overlay is mostly green inside the hole.
+    vtkNew<vtkPNGReader> reader;
+    reader->SetFileName((out / "plate_compare_side.png").c_str());
+    reader->Update();
+    int dims[3];
+    reader->GetOutput()->GetDimensions(dims);
+    CHECK(dims[0] > 2 * 640);
+    CHECK(dims[1] == 560);
+    vtkNew<vtkPNGReader> overlay;
+    overlay->SetFileName((out / "plate_compare_overlay.png").c_str());
+    overlay->Update();
+    const auto* px = static_cast<const unsigned char*>(overlay->GetOutput()->GetScalarPointer(330, 560 - 1 - 270, 0));
+    CHECK(int(px[1]) > int(px[0]) + 60);  // green at the plate's centre, in the hole
+  }
+  SECTION("the hole 8 mm off, as a JPEG") {
+    const GrayImage shifted = photograph(centre, 8, 0);
+    vtkNew<vtkImageData> img;
+    img->SetDimensions(shifted.width, shifted.height, 1);
+    img->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+    for (int j = 0; j < shifted.height; ++j)
+      for (int i = 0; i < shifted.width; ++i)
+        *static_cast<unsigned char*>(img->GetScalarPointer(i, shifted.height - 1 - j, 0)) =
+            static_cast<unsigned char>(255 * shifted.at(i, j) + 0.5);
+    vtkNew<vtkJPEGWriter> jpeg;
+    jpeg->SetInputData(img);
+    jpeg->SetQuality(90);
+    jpeg->SetFileName((dir.path / "shifted.jpg").c_str());
+    jpeg->Write();
+    const Result r = runFesph("compare " + base + " --image " + (dir.path / "shifted.jpg").string() +
+                           " --out " + (dir.path / "out").string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    // Discs of 6 mm radius 8 mm apart: a lens of 24.8 mm^2 over a union of 201 mm^2, IoU 0.12.
+    const double iou = jsonNumber(slurp(dir.path / "out" / "plate_compare.json"), "iou");
+    CHECK(iou < 0.5);
+    CHECK(iou == Approx(0.12).margin(0.03));
+    // Without --center the holes are aligned, and the offset shows in the centroid.
+    const Result a = runFesph("compare " + run + " --mm-per-px 0.08 --image " +
+                           (dir.path / "shifted.png").string() + " --out " + (dir.path / "auto").string());
+    REQUIRE(a.code == 0);
+    CHECK(jsonNumber(slurp(dir.path / "auto" / "plate_compare.json"), "iou") >= 0.9);
+    CHECK(a.out.find("holes' centroids aligned") != std::string::npos);
+  }
+  SECTION("bad input gets a clear error and exit code 2") {
+    const std::string photo = " --image " + (dir.path / "match.png").string();
+    Result r = runFesph("compare " + run + " --plate 3 --mm-per-px 0.08" + photo);
+    CHECK(r.code == 2);
+    CHECK(r.out.find("no such plate; the run has 1 = 'plate'") != std::string::npos);
+    std::ofstream(dir.path / "not_an_image.png") << "hello";
+    r = runFesph("compare " + base + " --image " + (dir.path / "not_an_image.png").string());
+    CHECK(r.code == 2);
+    CHECK(r.out.find("not_an_image.png") != std::string::npos);
+    r = runFesph("compare " + run + " --mm-per-px 0.08 --center 12" + photo);
+    CHECK(r.code == 2);
+    CHECK(r.out.find("--center must be X,Y") != std::string::npos);
+  }
+}

@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: MIT
+// Photograph holes against a known hole map: a plate of 1 mm cubes with the cube columns inside
+// two circles removed is the simulated plate; the synthetic photograph is drawn from the same
+// removed columns (dark holes and background, a plate unevenly lit between 0.25 and 0.40,
+// defocus blur, noise), so the true areas are the removed columns' areas.
+#include "core/analysis/photo_holes.hpp"
+
+#include "core/mesh/structured_box.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace fesph;
+
+namespace {
+
+constexpr double mm = 1e-3;
+
+struct Circle {
+  double x, y, r;  ///< mm, plate coordinates (centre of the plate at 0, 0)
+};
+
+/// 60 x 60 x 2 mm plate of 1 mm cubes centred on (0, 0), z in [-2, 0] mm, with the columns
+/// whose centre lies in one of `holes` removed.
+struct KnownPlate {
+  std::vector<Vec3> x;
+  std::vector<std::array<int, 4>> tets;
+  std::vector<Circle> holes;
+  /// Is the plate point (a, b) mm in a removed column?
+  bool inHole(double a, double b) const {
+    if (std::abs(a) >= 30 || std::abs(b) >= 30) return false;
+    const double ca = std::floor(a) + 0.5, cb = std::floor(b) + 0.5;
+    for (const Circle& c : holes)
+      if (std::hypot(ca - c.x, cb - c.y) < c.r) return true;
+    return false;
+  }
+  double trueArea(const Circle& c) const {  // m^2
+    int n = 0;
+    for (int j = -30; j < 30; ++j)
+      for (int i = -30; i < 30; ++i) n += std::hypot(i + 0.5 - c.x, j + 0.5 - c.y) < c.r;
+    return n * mm * mm;
+  }
+};
+
+KnownPlate knownPlate(const std::vector<Circle>& holes) {
+  KnownPlate p;
+  p.holes = holes;
+  const TetMesh mesh = structuredBox(Vec3(-30 * mm, -30 * mm, -2 * mm), Vec3(60 * mm, 60 * mm, 2 * mm), 60, 60, 2);
+  p.x = mesh.nodes;
+  for (const auto& t : mesh.tets) {
+    const Vec3 c = 0.25 * (p.x[t[0]] + p.x[t[1]] + p.x[t[2]] + p.x[t[3]]);
+    if (!p.inHole(c.x() / mm, c.y() / mm)) p.tets.push_back(t);
+  }
+  return p;
+}
+
+/// A photograph of the front face (right = +x, up = +y) at `mm_px` mm per pixel, the plate's
+/// centre at pixel `centre`; rear = true mirrors it left-right (the rear face).
+GrayImage photograph(const KnownPlate& plate, int w, int h, double mm_px, Eigen::Vector2d centre,
+                     bool rear = false) {
+  GrayImage ideal{w, h, std::vector<float>(static_cast<std::size_t>(w) * h)};
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const double a = (i + 0.5 - centre.x()) * mm_px * (rear ? -1 : 1);
+      const double b = -(j + 0.5 - centre.y()) * mm_px;
+      const bool material = std::abs(a) < 30 && std::abs(b) < 30 && !plate.inHole(a, b);
+      // Light falls off from left to right and a little from top to bottom.
+      const double lit = 0.40 - 0.12 * i / w - 0.03 * j / h;
+      ideal.value[static_cast<std::size_t>(j) * w + i] = static_cast<float>(material ? lit : 0.04);
+    }
+  // Defocus: a 3 x 3 box blur; then noise of standard deviation 0.03 (Box-Muller on a fixed
+  // seed, so the photograph is the same on every run).
+  GrayImage photo = ideal;
+  std::mt19937 rng(12345);
+  const auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      double s = 0;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di)
+          s += ideal.at(std::clamp(i + di, 0, w - 1), std::clamp(j + dj, 0, h - 1));
+      const double noise = 0.03 * std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform());
+      photo.value[static_cast<std::size_t>(j) * w + i] = static_cast<float>(std::clamp(s / 9 + noise, 0.0, 1.0));
+    }
+  return photo;
+}
+
+const std::vector<Circle> kHoles = {{-10, -5, 8}, {12, 10, 5}};
+
+}  // namespace
+
+TEST_CASE("Otsu's threshold splits a two-level histogram between its levels", "[unit][analysis]") {
+  GrayImage img{100, 100, std::vector<float>(10000, 0.2f)};
+  for (int k = 0; k < 3000; ++k) img.value[k] = 0.7f;
+  const double t = otsuThreshold(img);
+  CHECK(t > 0.2);
+  CHECK(t <= 0.7);
+}
+
+TEST_CASE("photograph holes: count, areas and diameters of a known hole map", "[unit][analysis]") {
+  const KnownPlate plate = knownPlate(kHoles);
+  // 80 x 80 mm at 0.1 mm per pixel; the plate's centre off the image centre.
+  const GrayImage photo = photograph(plate, 800, 800, 0.1, {413.0, 387.0});
+  const PhotoSegmentation seg = segmentHoles(photo);
+  CHECK(seg.automatic);
+  // Otsu lands between the dark level (0.04) and the darkest plate (0.25).
+  CHECK(seg.threshold > 0.06);
+  CHECK(seg.threshold < 0.24);
+  REQUIRE(seg.holes.size() == 2);
+  CompareOptions o;
+  o.m_per_px = 0.1 * mm;
+  o.centre_px = Eigen::Vector2d(413.0, 387.0);
+  const HoleComparison c = compareHoles(seg, simulatedPlate(plate.x, plate.tets), o);
+  REQUIRE(c.photo.size() == 2);
+  for (int k = 0; k < 2; ++k) {
+    const double area = plate.trueArea(kHoles[k]);
+    // Blur and noise move the thresholded edge by a fraction of a pixel (0.1 mm): within 4 %
+    // on areas of 50 and 200 mm^2, 2 % on diameters, 0.1 mm on centroids.
+    CHECK(c.photo[k].area == Approx(area).epsilon(0.04));
+    CHECK(c.photo[k].diameter == Approx(std::sqrt(4 * area / M_PI)).epsilon(0.02));
+    CHECK(std::abs(c.photo[k].centroid.x() - kHoles[k].x * mm) < 0.1 * mm);
+    CHECK(std::abs(c.photo[k].centroid.y() - kHoles[k].y * mm) < 0.1 * mm);
+  }
+}
+
+TEST_CASE("photograph holes: the threshold override is used", "[unit][analysis]") {
+  const KnownPlate plate = knownPlate(kHoles);
+  const GrayImage photo = photograph(plate, 800, 800, 0.1, {400.0, 400.0});
+  SegmentOptions o;
+  o.threshold = 0.5;  // above the whole (dark) plate: everything is "hole", one border piece
+  const PhotoSegmentation seg = segmentHoles(photo, o);
+  CHECK_FALSE(seg.automatic);
+  CHECK(seg.threshold == 0.5);
+  CHECK(seg.holes.empty());
+  o.threshold = 1.5;
+  CHECK_THROWS_AS(segmentHoles(photo, o), std::invalid_argument);
+}
+
+TEST_CASE("photograph vs simulated hole map: IoU for the matching and a shifted map",
+          "[unit][analysis]") {
+  const KnownPlate plate = knownPlate(kHoles);
+  const SimulatedPlate matching = simulatedPlate(plate.x, plate.tets);
+  // The same holes 8 mm to the right on the plate.
+  const KnownPlate moved = knownPlate({{-2, -5, 8}, {20, 10, 5}});
+  const SimulatedPlate shifted = simulatedPlate(moved.x, moved.tets);
+  const Eigen::Vector2d centre(413.0, 387.0);
+
+  SECTION("front face, plate centre given") {
+    const PhotoSegmentation seg = segmentHoles(photograph(plate, 800, 800, 0.1, centre));
+    CompareOptions o;
+    o.m_per_px = 0.1 * mm;
+    o.centre_px = centre;
+    const HoleComparison good = compareHoles(seg, matching, o);
+    CHECK(good.iou >= 0.9);
+    CHECK(good.simulated.size() == 2);
+    const HoleComparison bad = compareHoles(seg, shifted, o);
+    CHECK(bad.iou < 0.5);
+    // Discs 8 mm apart: lenses of 78.6 (r = 8 mm) and 8.2 mm^2 (r = 5 mm) over a union of
+    // 472 mm^2, IoU 0.184.
+    CHECK(bad.iou == Approx(0.184).margin(0.02));
+  }
+  SECTION("rear face: the photograph is mirrored") {
+    const PhotoSegmentation seg = segmentHoles(photograph(plate, 800, 800, 0.1, centre, true));
+    CompareOptions o;
+    o.m_per_px = 0.1 * mm;
+    o.centre_px = centre;
+    o.rear = true;
+    CHECK(compareHoles(seg, matching, o).iou >= 0.9);
+    o.rear = false;  // taken for the front face, the holes land mirrored
+    CHECK(compareHoles(seg, matching, o).iou < 0.5);
+  }
+  SECTION("no centre given: the holes' centroids are aligned") {
+    const PhotoSegmentation seg = segmentHoles(photograph(plate, 800, 800, 0.1, centre));
+    CompareOptions o;
+    o.m_per_px = 0.1 * mm;
+    const HoleComparison c = compareHoles(seg, shifted, o);
+    CHECK(c.iou >= 0.9);
+    CHECK((c.frame.toPlate(centre) - Eigen::Vector2d(8 * mm, 0)).norm() < 0.1 * mm);
+  }
+  SECTION("a wrong scale does not match") {
+    const PhotoSegmentation seg = segmentHoles(photograph(plate, 800, 800, 0.1, centre));
+    CompareOptions o;
+    o.m_per_px = 0.13 * mm;
+    o.centre_px = centre;
+    CHECK(compareHoles(seg, matching, o).iou < 0.7);
+    o.m_per_px = 0;
+    CHECK_THROWS_AS(compareHoles(seg, matching, o), std::invalid_argument);
+  }
+}
+
+TEST_CASE("polygon fill takes the pixels whose centre is inside", "[unit][analysis]") {
+  // A 4 x 3 pixel rectangle from (1, 1) to (5, 4); a triangle's area within a pixel row.
+  const auto mask = fillPolygons({{{1, 1}, {5, 1}, {5, 4}, {1, 4}}}, 8, 6);
+  std::size_t n = 0;
+  for (auto m : mask) n += m;
+  CHECK(n == 12);
+  CHECK(mask[1 * 8 + 1] == 1);
+  CHECK(mask[0 * 8 + 1] == 0);
+  CHECK(mask[1 * 8 + 5] == 0);
+  const auto tri = fillPolygons({{{0, 0}, {200, 0}, {0, 100}}}, 200, 100);
+  n = 0;
+  for (auto m : tri) n += m;
+  CHECK(n == Approx(10000).epsilon(0.01));
+}
