@@ -7,6 +7,8 @@
 
 namespace fesph {
 
+struct RunInfo;
+
 struct RunOptions {
   std::string scene;
   std::string out;                    ///< overrides [output].folder
@@ -50,5 +52,9 @@ struct CompareCommandOptions {
 };
 
 int compareCommand(const CompareCommandOptions& opt);
+
+/// Body index of plate `which` of a run: a 1-based number among the bodies that are not
+/// projectiles, or a body name. Throws std::invalid_argument listing the plates.
+int plateBody(const RunInfo& info, const std::string& which);
 
 }  // namespace fesph

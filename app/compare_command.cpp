@@ -18,8 +18,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Body index of plate `which`: a 1-based number among the bodies that are not projectiles,
-// or a body name.
+}  // namespace
+
 int plateBody(const RunInfo& info, const std::string& which) {
   std::vector<int> plates;
   std::string names;
@@ -35,9 +35,11 @@ int plateBody(const RunInfo& info, const std::string& which) {
     const std::size_t n = std::stoul(which);
     if (n >= 1 && n <= plates.size()) return plates[n - 1];
   }
-  throw std::invalid_argument("--plate " + which + ": no such plate; the run has " +
+  throw std::invalid_argument("plate " + which + ": no such plate; the run has " +
                               (names.empty() ? std::string("none") : names));
 }
+
+namespace {
 
 std::string num(double x) {
   char buf[32];

@@ -3,8 +3,10 @@
 // Sub-commands:
 //   run SCENE      mesh and run a scene, writing a ParaView series, histories and images
 //   render RUN_DIR draw the report images of a finished run
+//   shell [SCENE | RUN_DIR]   interactive workbench (also reads a script: fesph shell < steps.txt)
 //   compare RUN_DIR --plate N --image PHOTO --mm-per-px S   holes of a photograph vs the run
 #include "app/commands.hpp"
+#include "app/shell.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -68,6 +70,15 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("--time", compare.time, "Output time of the run in s (default: the last)");
   compare_cmd->add_option("--out", compare.out, "Output folder (default RUN_DIR/compare)");
 
+  fesph::ShellOptions shell;
+  CLI::App* shell_cmd = app.add_subcommand(
+      "shell", "Interactive workbench: load, set, run, step, render, probe (reads scripts too)");
+  shell_cmd->add_option("path", shell.path, "Scene file or run folder to load")
+      ->check(CLI::ExistingPath);
+  shell_cmd->add_option("--out", shell.out, "Output folder of runs (default: the scene's)");
+  shell_cmd->add_option("--set", shell.overrides, "Override a scene value (repeatable)");
+  shell_cmd->add_option("--materials", shell.materials, "Material library");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -77,5 +88,6 @@ int main(int argc, char** argv) {
   if (*run_cmd) return fesph::runCommand(run);
   if (*render_cmd) return fesph::renderCommand(render);
   if (*compare_cmd) return fesph::compareCommand(compare);
+  if (*shell_cmd) return fesph::shellCommand(shell);
   return 2;
 }

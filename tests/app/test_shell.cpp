@@ -1,0 +1,269 @@
+// SPDX-License-Identifier: MIT
+// `fesph shell` end to end on a tiny impact (tests/app/shell_scene.toml, 1332 elements, a few
+// tenths of a second a run): a script piped in (load, set, step, run, render, plot, probe,
+// export, errors), and an interactive session on a pseudo-terminal (tab completion, history,
+// Ctrl-C pausing a run without losing its state).
+#include "tests/support/temp_folder.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <poll.h>
+#include <pty.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+using fesph::testing::TempFolder;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
+
+struct Result {
+  int code = 0;
+  std::string out;  ///< stdout and stderr
+};
+
+Result shell(const std::string& args, const std::string& script, const fs::path& dir) {
+  const fs::path script_file = dir / "steps.txt";
+  std::ofstream(script_file) << script;
+  const std::string cmd = std::string(FESPH_BINARY) + " shell " + args + " < " +
+                          script_file.string() + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
+  r.code = WEXITSTATUS(pclose(p));
+  return r;
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+std::string slurp(const fs::path& p) {
+  std::stringstream s;
+  s << std::ifstream(p).rdbuf();
+  return s.str();
+}
+
+/// The line of `text` that starts with `prefix` (after blanks); empty if none.
+std::string lineWith(const std::string& text, const std::string& prefix) {
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+    if (l.find_first_not_of(' ') != std::string::npos &&
+        l.compare(l.find_first_not_of(' '), prefix.size(), prefix) == 0)
+      return l;
+  return "";
+}
+
+/// fesph shell on a pseudo-terminal, as a user at a terminal runs it.
+class Terminal {
+ public:
+  Terminal(const std::vector<std::string>& args, const fs::path& home) {
+    pid_ = forkpty(&fd_, nullptr, nullptr, nullptr);
+    if (pid_ == 0) {
+      setenv("HOME", home.c_str(), 1);  // the history file goes there
+      setenv("TERM", "xterm", 1);
+      std::vector<char*> argv;
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+  }
+  ~Terminal() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    if (fd_ >= 0) close(fd_);
+  }
+  void send(const std::string& keys) { REQUIRE(write(fd_, keys.data(), keys.size()) == static_cast<ssize_t>(keys.size())); }
+  /// Read until `text` appears after what earlier waits consumed; false after `seconds`.
+  bool waitFor(const std::string& text, double seconds = 20) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < until) {
+      const std::size_t at = out_.find(text, seen_);
+      if (at != std::string::npos) {
+        seen_ = at + text.size();
+        return true;
+      }
+      pollfd p{fd_, POLLIN, 0};
+      if (poll(&p, 1, 50) > 0) {
+        char buf[4096];
+        const ssize_t n = read(fd_, buf, sizeof buf);
+        if (n <= 0) return false;
+        out_.append(buf, static_cast<std::size_t>(n));
+      }
+    }
+    return false;
+  }
+  /// Exit status after quit.
+  int wait() {
+    int status = 0;
+    waitFor("\x04never", 2);  // drain
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  const std::string& output() const { return out_; }
+
+ private:
+  pid_t pid_ = -1;
+  int fd_ = -1;
+  std::string out_;
+  std::size_t seen_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("fesph shell: a scripted session gives the expected output and files", "[app][shell]") {
+  TempFolder dir("shell_script");
+  const fs::path out = dir.path / "run";
+  const std::string script =
+      "# a scripted session: comments and blank lines are skipped\n"
+      "\n"
+      "show simulation.end_time\n"
+      "set simulation.end_time=3e-6 output.interval=1e-6\n"
+      "show simulation.end_time\n"
+      "mesh info\n"
+      "step 10\n"
+      "probe\n"
+      "run to 1.5us\n"
+      "bogus\n"
+      "set nosuch.key=1\n"
+      "run\n"
+      "render plate plate rear plastic_strain\n"
+      "render plate 2\n"
+      "plot velocity\n"
+      "probe\n"
+      "export state\n"
+      "export scene " + (dir.path / "changed.toml").string() + "\n"
+      "report\n"
+      "show\n";
+  const Result r = shell(kScene + " --out " + out.string(), script, dir.path);
+  INFO(r.out);
+
+  // Errors were reported, the session went on to the end, and the exit code says so.
+  CHECK(r.code == 1);
+  CHECK(r.out.find("error: unknown command 'bogus'") != std::string::npos);
+  CHECK(r.out.find("nosuch") != std::string::npos);
+  CHECK(r.out.find("error: plate 2: no such plate; the run has 1 = 'plate'") != std::string::npos);
+  CHECK(r.out.find("report is not available yet") != std::string::npos);
+  // No prompt and no terminal control sequences from a pipe.
+  CHECK(r.out.find("fesph>") == std::string::npos);
+  CHECK(r.out.find('\x1b') == std::string::npos);
+
+  CHECK(r.out.find("simulation.end_time = 4e-06\n") != std::string::npos);
+  CHECK(r.out.find("simulation.end_time = 3e-06\n") != std::string::npos);
+  CHECK(lineWith(r.out, "plate ").find("target") != std::string::npos);  // mesh info
+  CHECK(r.out.find("total: 1332 elements") != std::string::npos);
+  CHECK(r.out.find(", step 10, dt = ") != std::string::npos);
+  std::smatch m;
+  // Only `run to 1.5us` ends with such a line after `step 10`: it stops at the first step past.
+  {
+    const std::string tail = r.out.substr(r.out.find(", step 10, dt = ") + 1);
+    REQUIRE(std::regex_search(tail, m, std::regex("\nt = ([0-9.e+-]+) s, step ([0-9]+), dt = ")));
+    CHECK(std::stod(m[1]) >= 1.5e-6);
+    CHECK(std::stod(m[1]) < 1.6e-6);
+  }
+  CHECK(r.out.find("End time reached: t = 3e-06 s") != std::string::npos);
+
+  // Probe: the projectile has slowed down from 600 m/s, and the budget is printed.
+  REQUIRE(count(r.out, "projectile 'projectile'\n") == 2);
+  const std::string last = r.out.substr(r.out.rfind("projectile 'projectile'\n"));
+  REQUIRE(std::regex_search(last, m, std::regex("\\|v\\| ([0-9.]+) m/s")));
+  CHECK(std::stod(m[1]) < 590);
+  CHECK(std::stod(m[1]) > 300);
+  CHECK(last.find("energy (J)      kinetic ") != std::string::npos);
+  CHECK(last.find("balance error ") != std::string::npos);
+
+  // Files: the series at the scene's cadence (0, 1, 2, 3 us), the images, the export.
+  CHECK(count(slurp(out / "elements.pvd"), "<DataSet") == 4);
+  CHECK(fs::file_size(out / "shell" / "t_3e-06" / "plate_rear.png") > 1000);
+  CHECK(fs::file_size(out / "shell" / "t_3e-06" / "plate_front.png") > 1000);
+  CHECK(fs::file_size(out / "shell" / "velocity.png") > 1000);
+  CHECK(count(slurp(out / "export" / "t_3e-06" / "elements.pvd"), "<DataSet") == 1);
+  CHECK(slurp(dir.path / "changed.toml").find("end_time = 3e-06") != std::string::npos);
+  CHECK(r.out.find("model      t = 3e-06 s of 3e-06 s, step ") != std::string::npos);
+
+  // A run split by the shell ends where `fesph run` ends.
+  {
+    const std::string cmd = std::string(FESPH_BINARY) + " run " + kScene + " --out " +
+                            (dir.path / "plain").string() +
+                            " --set simulation.end_time=3e-6 --set output.interval=1e-6 --quiet --no-images";
+    std::string plain;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, p)) plain += buf;
+    REQUIRE(WEXITSTATUS(pclose(p)) == 0);
+    const std::string v = lineWith(plain, "projectile 'projectile'  mean velocity");
+    REQUIRE(!v.empty());
+    CHECK(r.out.find(v) != std::string::npos);
+    CHECK(r.out.find(lineWith(plain, "steps ")) != std::string::npos);
+  }
+
+  // The run folder it left can be looked at (its scene's values, its last output), not run.
+  fs::remove_all(out / "shell");
+  const Result f = shell(out.string(), "show simulation.end_time\nrender plate 1\nprobe\nrun\n", dir.path);
+  INFO(f.out);
+  CHECK(f.code == 1);
+  CHECK(f.out.find("Run folder " + out.string()) != std::string::npos);
+  CHECK(f.out.find("simulation.end_time = 3e-06\n") != std::string::npos);  // with its --set
+  CHECK(fs::exists(out / "shell" / "t_3e-06" / "plate_front.png"));
+  CHECK(count(f.out, "a run folder holds no model to run or probe") == 2);
+}
+
+TEST_CASE("fesph shell on a terminal: completion, history, Ctrl-C pauses a run", "[app][shell]") {
+  TempFolder dir("shell_tty");
+  Terminal t({FESPH_BINARY, "shell", kScene, "--out", (dir.path / "run").string()}, dir.path);
+  REQUIRE(t.waitFor("fesph> "));
+  t.send("mesh in\t\r");  // completes to `mesh info`
+  CHECK(t.waitFor("total: 1332 elements"));
+  REQUIRE(t.waitFor("fesph> "));
+  t.send("show simulation.end_t\t\r");  // a scene key
+  CHECK(t.waitFor("simulation.end_time = 4e-06"));
+  REQUIRE(t.waitFor("fesph> "));
+  t.send("\x10\r");  // Ctrl-P: the previous line again
+  CHECK(t.waitFor("simulation.end_time = 4e-06"));
+  REQUIRE(t.waitFor("fesph> "));
+
+  // A long run, paused by Ctrl-C; its state stays and the next `step` goes on from it.
+  t.send("set simulation.end_time=1\r");
+  REQUIRE(t.waitFor("fesph> "));
+  t.send("run\r");
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  t.send("\x03");
+  REQUIRE(t.waitFor("Paused (Ctrl-C) at t = "));
+  REQUIRE(t.waitFor(", step "));
+  REQUIRE(t.waitFor("fesph> "));
+  const std::string before = t.output();
+  std::smatch m;
+  REQUIRE(std::regex_search(before, m, std::regex("Paused \\(Ctrl-C\\) at t = [0-9.e+-]+ s, step ([0-9]+)")));
+  const long paused = std::stol(m[1]);
+  CHECK(paused > 0);  // how far it got in 0.8 s depends on the machine
+  t.send("step 3\r");
+  REQUIRE(t.waitFor("s, step " + std::to_string(paused + 3) + ", dt = "));
+  REQUIRE(t.waitFor("fesph> "));
+  // Ctrl-C at the prompt clears the line and does not end the session.
+  t.send("probe-not-sent\x03");
+  REQUIRE(t.waitFor("fesph> "));
+  t.send("help step\r");
+  CHECK(t.waitFor("advance N steps"));
+  REQUIRE(t.waitFor("fesph> "));
+  t.send("quit\r");
+  CHECK(t.wait() == 0);
+  CHECK(t.output().find("unknown command") == std::string::npos);
+  CHECK(fs::exists(dir.path / ".fesph_history"));
+}
