@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace fesph {
 
 struct RunInfo;
@@ -52,6 +56,8 @@ struct CompareCommandOptions {
 };
 
 int compareCommand(const CompareCommandOptions& opt);
+/// The options of `compare` after RUN_DIR (shared by `fesph compare` and the shell).
+void addCompareOptions(CLI::App& cmd, CompareCommandOptions& o);
 
 /// Body index of plate `which` of a run: a 1-based number among the bodies that are not
 /// projectiles, or a body name. Throws std::invalid_argument listing the plates.

@@ -7,6 +7,8 @@
 #include "render/photo_compare.hpp"
 #include "render/plate_images.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +99,27 @@ void writeJson(const std::string& path, const CompareOptions& o, const std::stri
 }
 
 }  // namespace
+
+void addCompareOptions(CLI::App& cmd, CompareCommandOptions& o) {
+  cmd.add_option("--plate", o.plate,
+                 "Plate: number (1 = first body that is not a projectile) or name");
+  cmd.add_option("--image", o.image, "Photograph (PNG, JPEG, TIFF, BMP, PNM)")
+      ->required()->check(CLI::ExistingFile);
+  cmd.add_option("--mm-per-px", o.mm_per_px, "Photograph scale, mm per pixel")
+      ->required()->check(CLI::PositiveNumber);
+  cmd.add_option("--center", o.center,
+                 "X,Y: pixel (column, row from the top left) of the plate's centre "
+                 "(default: align the holes' centroids)");
+  cmd.add_option("--threshold", o.threshold,
+                 "Brightness in (0, 1) between holes and plate (default: Otsu's)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd.add_option("--holes", o.holes, "Holes are dark (default) or bright")
+      ->check(CLI::IsMember({"dark", "bright"}));
+  cmd.add_option("--face", o.face, "Face photographed: front (default) or rear")
+      ->check(CLI::IsMember({"front", "rear"}));
+  cmd.add_option("--time", o.time, "Output time of the run in s (default: the last)");
+  cmd.add_option("--out", o.out, "Output folder (default RUN_DIR/compare)");
+}
 
 int compareCommand(const CompareCommandOptions& opt) {
   CompareOptions co;

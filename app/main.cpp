@@ -51,24 +51,7 @@ int main(int argc, char** argv) {
       "compare", "Holes in a photograph of a tested plate against the simulated plate");
   compare_cmd->add_option("run_dir", compare.run_dir, "Run folder (holds elements.pvd)")
       ->required()->check(CLI::ExistingDirectory);
-  compare_cmd->add_option("--plate", compare.plate,
-                          "Plate: number (1 = first body that is not a projectile) or name");
-  compare_cmd->add_option("--image", compare.image, "Photograph (PNG, JPEG, TIFF, BMP, PNM)")
-      ->required()->check(CLI::ExistingFile);
-  compare_cmd->add_option("--mm-per-px", compare.mm_per_px, "Photograph scale, mm per pixel")
-      ->required()->check(CLI::PositiveNumber);
-  compare_cmd->add_option("--center", compare.center,
-                          "X,Y: pixel (column, row from the top left) of the plate's centre "
-                          "(default: align the holes' centroids)");
-  compare_cmd->add_option("--threshold", compare.threshold,
-                          "Brightness in (0, 1) between holes and plate (default: Otsu's)")
-      ->check(CLI::Range(0.0, 1.0));
-  compare_cmd->add_option("--holes", compare.holes, "Holes are dark (default) or bright")
-      ->check(CLI::IsMember({"dark", "bright"}));
-  compare_cmd->add_option("--face", compare.face, "Face photographed: front (default) or rear")
-      ->check(CLI::IsMember({"front", "rear"}));
-  compare_cmd->add_option("--time", compare.time, "Output time of the run in s (default: the last)");
-  compare_cmd->add_option("--out", compare.out, "Output folder (default RUN_DIR/compare)");
+  fesph::addCompareOptions(*compare_cmd, compare);
 
   fesph::ShellOptions shell;
   CLI::App* shell_cmd = app.add_subcommand(

@@ -14,6 +14,8 @@
 #include "render/series_writer.hpp"
 #include "render/velocity_plot.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +35,9 @@ namespace {
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// A command failed and has printed why.
+struct Reported {};
 
 /// Words of a line: split on blanks, "double quotes" keep blanks; # starts a comment.
 std::vector<std::string> words(const std::string& line) {
@@ -261,6 +266,12 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "flight), residual velocity of the largest intact piece. Then element, node and particle\n"
        "counts and the energy budget.",
        &Workbench::probe},
+      {"compare", "compare --image PHOTO --mm-per-px S [--plate N] [...]",
+       "holes in a photograph of the tested plate against the plate now",
+       "The options of `fesph compare` (`compare --help`): --center X,Y, --threshold T,\n"
+       "--holes dark|bright, --face front|rear. Report, side-by-side and overlay images, CSV and\n"
+       "JSON in RUN_FOLDER/shell/compare/.",
+       &Workbench::compare},
       {"checkpoint", "checkpoint [FILE]", "save the model's state to restart from it", "",
        &Workbench::checkpoint},
       {"restart", "restart FILE", "go back to a saved state", "", &Workbench::restart},
@@ -300,6 +311,8 @@ bool Workbench::execute(const std::string& line) {
         return true;
       }
     throw UsageError("unknown command '" + w[0] + "'; `help` lists the commands");
+  } catch (const Reported&) {
+    // printed already
   } catch (const UsageError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
   } catch (const InputError& e) {
@@ -555,24 +568,9 @@ void Workbench::render(const std::vector<std::string>& a) {
     else
       o.field = a[k];
   }
-  std::string source;  // run folder whose series is drawn
   RunInfo info;
   double time = 0;
-  if (!scene_path_.empty()) {
-    // The model as it is now: one series step of its own, beside the run's output.
-    RunSession& s = session();
-    source = (fs::path(s.folder()) / "shell" / "state").string();
-    SeriesWriter(source).write(s.model(), s.model().time);
-    std::ofstream(fs::path(source) / "scene.toml") << s.scene().text;
-    info = infoOf(s.model(), s.scene().half);
-    time = s.model().time;
-  } else if (!run_dir_.empty()) {
-    source = run_dir_;
-    info = readRunInfo(source);
-    time = render_detail::readRunStep(source, -1).time;
-  } else {
-    throw UsageError("nothing loaded: `load SCENE.toml` or `load RUN_DIR`");
-  }
+  const std::string source = currentState(info, time);
   const int body = plateBody(info, a[1]);
   const std::string out = (fs::path(runFolder()) / "shell" / timeDir(time)).string();
   const std::vector<PlateImages> images = renderPlateImages(source, -1, o, out, {body});
@@ -585,6 +583,42 @@ void Workbench::render(const std::vector<std::string>& a) {
     std::printf("%s; the other face: %s\n", p.holes.holes.empty() ? "" : " mm)",
                 (rear ? p.front_png : p.rear_png).c_str());
   }
+}
+
+std::string Workbench::currentState(RunInfo& info, double& time) {
+  if (!scene_path_.empty()) {
+    RunSession& s = session();
+    const std::string dir = (fs::path(s.folder()) / "shell" / "state").string();
+    SeriesWriter(dir).write(s.model(), s.model().time);
+    std::ofstream(fs::path(dir) / "scene.toml") << s.scene().text;
+    info = infoOf(s.model(), s.scene().half);
+    time = s.model().time;
+    return dir;
+  }
+  if (run_dir_.empty()) throw UsageError("nothing loaded: `load SCENE.toml` or `load RUN_DIR`");
+  info = readRunInfo(run_dir_);
+  time = render_detail::readRunStep(run_dir_, -1).time;
+  return run_dir_;
+}
+
+void Workbench::compare(const std::vector<std::string>& a) {
+  CompareCommandOptions o;
+  CLI::App cmd{"compare: holes in a photograph against the plate as it is now", "compare"};
+  addCompareOptions(cmd, o);
+  std::vector<std::string> args(a.rbegin(), a.rend());  // CLI11 takes them last first
+  try {
+    cmd.parse(args);
+  } catch (const CLI::CallForHelp&) {
+    std::printf("%s", cmd.help().c_str());
+    return;
+  } catch (const CLI::ParseError& e) {
+    throw UsageError(std::string(e.what()) + "; `compare --help` lists the options");
+  }
+  RunInfo info;
+  double time = 0;
+  o.run_dir = currentState(info, time);
+  if (o.out.empty()) o.out = (fs::path(runFolder()) / "shell" / "compare").string();
+  if (compareCommand(o) != 0) throw Reported();
 }
 
 void Workbench::plot(const std::vector<std::string>& a) {
@@ -732,6 +766,14 @@ std::vector<std::string> Workbench::completions(const std::vector<std::string>& 
     all = {"velocity"};
   } else if (cmd == "export" && n == 1) {
     all = {"state", "scene"};
+  } else if (cmd == "compare" && n >= 2 && before[n - 1] == "--image") {
+    return {kFiles};
+  } else if (cmd == "compare" && n >= 2 && (before[n - 1] == "--holes")) {
+    all = {"dark", "bright"};
+  } else if (cmd == "compare" && n >= 2 && (before[n - 1] == "--face")) {
+    all = {"front", "rear"};
+  } else if (cmd == "compare") {
+    all = {"--image", "--mm-per-px", "--plate", "--center", "--threshold", "--holes", "--face", "--out"};
   } else if (cmd == "export" || cmd == "checkpoint" || cmd == "restart") {
     return {kFiles};
   } else if (cmd == "render" && n == 1) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "app/run_session.hpp"
+#include "render/plate_images.hpp"
 
 #include <atomic>
 #include <memory>
@@ -54,6 +55,7 @@ class Workbench {
   void render(const std::vector<std::string>& a);
   void plot(const std::vector<std::string>& a);
   void probe(const std::vector<std::string>& a);
+  void compare(const std::vector<std::string>& a);
   void checkpoint(const std::vector<std::string>& a);
   void restart(const std::vector<std::string>& a);
   void exportCmd(const std::vector<std::string>& a);
@@ -65,6 +67,10 @@ class Workbench {
   RunSession& session();
   /// Drive the session to `until` or by `steps` with Ctrl-C as the stop flag, and report.
   void advance(double until, long steps);
+  /// A run folder holding what is to be drawn: the model as it is now (written to
+  /// RUN_FOLDER/shell/state, one series step with its scene.toml) or the loaded run folder.
+  /// Sets `info` (bodies) and `time` (of the state drawn).
+  std::string currentState(RunInfo& info, double& time);
   /// Folder of the current run (scene mode) or the loaded run folder.
   std::string runFolder() const;
   /// Scene keys (dotted, arrays by index) of the current scene text, sorted.

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <regex>
@@ -128,9 +129,20 @@ class Terminal {
 
 }  // namespace
 
+/// A 200 x 200 grey photograph (binary PGM): a bright plate with a dark disc of 20 px radius
+/// around the centre.
+void writePhoto(const fs::path& path) {
+  std::ofstream out(path, std::ios::binary);
+  out << "P5\n200 200\n255\n";
+  for (int j = 0; j < 200; ++j)
+    for (int i = 0; i < 200; ++i)
+      out.put(static_cast<char>(std::hypot(i + 0.5 - 100, j + 0.5 - 100) < 20 ? 30 : 200));
+}
+
 TEST_CASE("fesph shell: a scripted session gives the expected output and files", "[app][shell]") {
   TempFolder dir("shell_script");
   const fs::path out = dir.path / "run";
+  writePhoto(dir.path / "photo.pgm");
   const std::string script =
       "# a scripted session: comments and blank lines are skipped\n"
       "\n"
@@ -149,6 +161,7 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
       "plot velocity\n"
       "probe\n"
       "export state\n"
+      "compare --image " + (dir.path / "photo.pgm").string() + " --mm-per-px 0.1 --center 100,100\n"
       "export scene " + (dir.path / "changed.toml").string() + "\n"
       "report\n"
       "show\n";
@@ -197,6 +210,12 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(count(slurp(out / "export" / "t_3e-06" / "elements.pvd"), "<DataSet") == 1);
   CHECK(slurp(dir.path / "changed.toml").find("end_time = 3e-06") != std::string::npos);
   CHECK(r.out.find("model      t = 3e-06 s of 3e-06 s, step ") != std::string::npos);
+  // compare: the photograph's hole of 20 px radius at 0.1 mm/px is 12.57 mm^2.
+  CHECK(r.out.find("  photograph: 1 hole\n") != std::string::npos);
+  REQUIRE(std::regex_search(r.out, m, std::regex("area +([0-9.]+) mm2")));
+  CHECK(std::stod(m[1]) == Approx(M_PI * 4).epsilon(0.03));
+  CHECK(r.out.find("  IoU ") != std::string::npos);
+  CHECK(fs::exists(out / "shell" / "compare" / "plate_compare_overlay.png"));
 
   // A run split by the shell ends where `fesph run` ends.
   {
