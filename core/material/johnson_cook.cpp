@@ -35,40 +35,54 @@ double flowStress(const Material& mat, double eps_p, double eps_dot, double T) {
 
 namespace {
 
-/// d sigma_y / d eps_p (Pa); +infinity at eps_p = 0 when n < 1.
-double hardeningSlope(const Material& mat, double eps_p, double eps_dot, double T) {
-  if (mat.B == 0.0) return 0.0;
-  const double ep = std::max(eps_p, 0.0);
+/// Flow stress at the end of a plastic increment dlam taken over dt: the strain is eps_p + dlam
+/// and the rate is the plastic strain rate dlam / dt (Johnson & Cook 1983 define eps_dot* with
+/// the equivalent plastic strain rate). dt <= 0: quasi-static.
+double flowStressAfter(const Material& mat, double eps_p, double dlam, double dt, double T) {
+  return flowStress(mat, eps_p + dlam, dt > 0.0 ? dlam / dt : 0.0, T);
+}
+
+/// d sigma_y / d dlam of flowStressAfter (Pa): hardening slope times the rate factor plus the
+/// hardening times the slope of the rate factor, C / dlam above the reference rate.
+/// +infinity at eps_p + dlam = 0 when n < 1.
+double flowStressSlope(const Material& mat, double eps_p, double dlam, double dt, double T) {
+  const double ep = std::max(eps_p + dlam, 0.0);
   double slope;
-  if (ep > 0.0)
+  if (mat.B == 0.0)
+    slope = 0.0;
+  else if (ep > 0.0)
     slope = mat.B * mat.n * std::pow(ep, mat.n - 1.0);
   else
     slope = mat.n < 1.0 ? std::numeric_limits<double>::infinity()
                         : (mat.n == 1.0 ? mat.B : 0.0);
+  const double rate = dt > 0.0 ? dlam / dt : 0.0;
+  const double rate_factor = 1.0 + mat.C * logRateRatio(mat, rate);
+  const double rate_slope = rate > mat.eps_dot0 && dlam > 0.0 ? mat.C / dlam : 0.0;
+  const double hardening = mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
   const double Ts = homologousTemperature(mat, T);
   const double thermal = Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
-  return slope * (1.0 + mat.C * logRateRatio(mat, eps_dot)) * thermal;
+  return (slope * rate_factor + hardening * rate_slope) * thermal;
 }
 
 /// Plastic multiplier dlam of the radial return: the root of
-///   g(dlam) = sigma_eq_tr - 3 G dlam - sigma_y(eps_p + dlam) = 0.
-/// g is strictly decreasing, g(0) > 0 and g(hi) <= 0 for hi = (sigma_eq_tr - sigma_y(eps_p))/(3G)
-/// (hardening only shrinks the step), so Newton is run inside the bracket [0, hi] and falls
-/// back to bisection when its step leaves the bracket, e.g. at the infinite slope of n < 1
-/// hardening at eps_p = 0.
-double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, double eps_dot,
-                    double T) {
+///   g(dlam) = sigma_eq_tr - 3 G dlam - sigma_y(eps_p + dlam, dlam / dt) = 0.
+/// The rate term makes the return implicit in the rate, as the viscoplastic form of JC. g is
+/// strictly decreasing (sigma_y grows with both its strain and its rate), g(0) > 0 and
+/// g(hi) <= 0 for hi = (sigma_eq_tr - sigma_y(eps_p, 0))/(3G), so Newton is run inside the
+/// bracket [0, hi] and falls back to bisection when its step leaves the bracket, e.g. at the
+/// infinite slope of n < 1 hardening at eps_p = 0 or of the rate term at the reference rate.
+double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, double dt, double T) {
   const double G3 = 3.0 * mat.G;
   double lo = 0.0;
-  double hi = (sigma_eq_tr - flowStress(mat, eps_p, eps_dot, T)) / G3;
+  double hi = (sigma_eq_tr - flowStressAfter(mat, eps_p, 0.0, dt, T)) / G3;
   double x = hi;
   for (int it = 0; it < 200; ++it) {
-    const double sy = flowStress(mat, eps_p + x, eps_dot, T);
+    const double sy = flowStressAfter(mat, eps_p, x, dt, T);
     const double g = sigma_eq_tr - G3 * x - sy;
     // 1e-10 sigma_y is 100x inside the 1e-8 promised; the second term is round-off in g.
     if (std::abs(g) <= 1e-10 * sy + 1e-14 * sigma_eq_tr) return x;
     (g > 0.0 ? lo : hi) = x;
-    const double xn = x + g / (G3 + hardeningSlope(mat, eps_p + x, eps_dot, T));
+    const double xn = x + g / (G3 + flowStressSlope(mat, eps_p, x, dt, T));
     x = (xn > lo && xn < hi) ? xn : 0.5 * (lo + hi);
     if (hi - lo <= 4e-16 * hi) break;  // bracket at round-off: x is the root
   }
@@ -81,11 +95,11 @@ double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, doubl
 ///   Jaumann:  s += dt (W s - s W)                         (objective rotation, first order)
 ///   trial:    s_tr = s + 2 G dt dev(D)
 ///   return:   s = s_tr (1 - 3 G dlam / sigma_eq_tr), sigma_eq = sigma_y(eps_p + dlam)
-/// The rate in the C term is the equivalent deviatoric total strain rate
-/// sqrt(2/3 dev(D):dev(D)), taken explicitly at the start of the step so the return has no
-/// rate-dependent root (as LS-DYNA MAT_015 with its default VP = 0; from its manual, not
-/// re-read), and T is the temperature at the start of the step. Heating dT = chi sigma_y dlam / (rho cp) (K);
-/// damage dD = dlam / eps_f(-p/sigma_eq, rate, T) (Johnson & Cook 1985), capped at 1.
+/// The rate in the C term is the equivalent plastic strain rate dlam / dt of the step, as in
+/// Johnson & Cook 1983 (eps_dot* = eps_dot_p / eps_dot0), solved with the return; T is the
+/// temperature at the start of the step. A point that does not yield sees the quasi-static
+/// surface. Heating dT = chi sigma_y dlam / (rho cp) (K); damage dD = dlam / eps_f(-p/sigma_eq,
+/// dlam/dt, T) (Johnson & Cook 1985), capped at 1.
 /// Returns the plastic work sigma_y dlam (J/m^3).
 double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
                               double rho, PointState& st) {
@@ -100,12 +114,12 @@ double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, 
       st.s + Sym::fromMatrix(W * S - S * W) * dt + dev_D * (2.0 * mat.G * dt);
   st.s = s_tr;
 
-  const double rate = std::sqrt(2.0 / 3.0 * dev_D.dot(dev_D));
   const double sigma_eq_tr = vonMises(s_tr);
-  // Inside the yield surface: elastic. Always so for the Elastic model (infinite flow stress).
-  if (sigma_eq_tr <= flowStress(mat, st.eps_p, rate, st.T)) return 0.0;
-  const double dlam = radialReturn(mat, sigma_eq_tr, st.eps_p, rate, st.T);
-  const double sigma_y = flowStress(mat, st.eps_p + dlam, rate, st.T);
+  // Inside the quasi-static yield surface: elastic. Always so for the Elastic model.
+  if (sigma_eq_tr <= flowStress(mat, st.eps_p, 0.0, st.T)) return 0.0;
+  const double dlam = radialReturn(mat, sigma_eq_tr, st.eps_p, dt, st.T);
+  const double sigma_y = flowStressAfter(mat, st.eps_p, dlam, dt, st.T);
+  const double rate = dt > 0.0 ? dlam / dt : 0.0;
   st.s = s_tr * (1.0 - 3.0 * mat.G * dlam / sigma_eq_tr);
   const double T0 = st.T;
   st.eps_p += dlam;

@@ -119,15 +119,20 @@ TEST_CASE("radial return lands on the yield surface", "[unit][material]") {
         const double dt = 1e-6;
         const double r = overshoot * m->A / (3.0 * m->G * dt);
         updateDeviatoricStress(*m, uniaxialRate(r), kNoSpin, dt, m->rho0, st);
-        const double sy = flowStress(*m, st.eps_p, r, 700.0);
+        // The surface is the one at the new strain and the step's plastic strain rate
+        // (Johnson & Cook 1983: eps_dot* is the plastic strain rate), dlam / dt.
+        const double rate_p = (st.eps_p - eps_p0) / dt;
+        const double sy = flowStress(*m, st.eps_p, rate_p, 700.0);
         const double seq = vonMises(st.s);
         INFO("n = " << m->n << ", B = " << m->B << ", eps_p0 = " << eps_p0
                     << ", overshoot = " << overshoot);
-        if (overshoot * m->A <= flowStress(*m, eps_p0, r, 700.0)) {
-          CHECK(st.eps_p == eps_p0);  // still elastic: hardened or rate-strengthened surface
+        if (overshoot * m->A <= flowStress(*m, eps_p0, 0.0, 700.0)) {
+          CHECK(st.eps_p == eps_p0);  // still elastic: inside the hardened quasi-static surface
           continue;
         }
         CHECK(st.eps_p > eps_p0);
+        if (m->C > 0 && rate_p > m->eps_dot0)  // the rate term is active and strengthens
+          CHECK(sy > flowStress(*m, st.eps_p, 0.0, 700.0));
         // Consistency (Simo & Hughes 1998, Box 3.2): |sigma_eq - sigma_y| < 1e-8 sigma_y (brief).
         CHECK(std::abs(seq - sy) < 1e-8 * sy);
         // Radial: the stress keeps the trial direction, the xx component is 2/3 sigma_eq.
@@ -171,6 +176,9 @@ TEST_CASE("damage accumulates as sum d eps_p / eps_f and a failed point loses st
   PointState st;
   st.T = mat.T_room;
   st.p = -sy / 3.0;  // tension, sigma* = 1/3 (uniaxial tension)
+  // Start on the yield surface of the steady flow: every step's plastic increment is then
+  // rate dt, so the plastic strain rate of the rate terms is exactly `rate`.
+  st.s = Sym{2.0 / 3.0 * sy, -sy / 3.0, -sy / 3.0, 0, 0, 0};
   // Hand value, JC 1985 with the 4340 constants at sigma* = 1/3, eps_dot* = 100, T* = 0:
   // (0.05 + 3.44 exp(-2.12/3))(1 + 0.002 ln 100) = 1.746903 * 1.009210 = 1.762993.
   const double eps_f = (0.05 + 3.44 * std::exp(-2.12 / 3.0)) * (1.0 + 0.002 * std::log(100.0));
