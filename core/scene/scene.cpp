@@ -5,6 +5,7 @@
 #include "core/material/library.hpp"
 #include "core/sph/particle_body.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -21,17 +22,16 @@ namespace {
 
 // ---- --set overrides ------------------------------------------------------------------
 
-void applyOverride(toml::table& root, const std::string& assignment) {
-  const std::string src = "--set " + assignment;
-  const auto eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw InputError(src, 0, 0, "expected key=value, e.g. simulation.end_time=2e-5");
-  const std::string path = assignment.substr(0, eq);
-  const toml::table value_doc = parseText("v = " + assignment.substr(eq + 1), src);
-
+// Set the value at a dotted path ("bodies.0.shape.mesh_size"). An array element is named by
+// its index or, for arrays of tables, by the table's `name` ("bodies.plate_1.velocity").
+// `src`, `line`, `col`: where the assignment comes from, for errors.
+void setAt(toml::table& root, const std::string& path, const toml::node& value,
+           const std::string& src, int line, int col) {
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  if (parts.empty() || std::any_of(parts.begin(), parts.end(), [](auto& p) { return p.empty(); }))
+    throw InputError(src, line, col, "'" + path + "' is not a dotted key path");
 
   toml::node* node = &root;
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
@@ -42,18 +42,60 @@ void applyOverride(toml::table& root, const std::string& assignment) {
     } else if (toml::array* a = node->as_array()) {
       char* end = nullptr;
       const long idx = std::strtol(p.c_str(), &end, 10);
-      if (*end || idx < 0 || static_cast<std::size_t>(idx) >= a->size())
-        throw InputError(src, 0, 0,
-                         "'" + p + "' is not an index of the array (size " +
-                             std::to_string(a->size()) + ") on the way to " + path);
-      node = a->get(static_cast<std::size_t>(idx));
+      node = nullptr;
+      if (!*end && idx >= 0 && static_cast<std::size_t>(idx) < a->size()) {
+        node = a->get(static_cast<std::size_t>(idx));
+      } else if (*end) {
+        for (auto& item : *a) {
+          const toml::table* t = item.as_table();
+          if (t && t->get_as<std::string>("name") && **t->get_as<std::string>("name") == p)
+            node = &item;
+        }
+      }
+      if (!node)
+        throw InputError(src, line, col,
+                         "'" + p + "' is neither an index of the array (size " +
+                             std::to_string(a->size()) + ") nor the name of one of its tables, on "
+                             "the way to " + path);
     } else {
-      throw InputError(src, 0, 0, "'" + p + "' in " + path + " is not a table or an array");
+      throw InputError(src, line, col, "'" + p + "' in " + path + " is not a table or an array");
     }
   }
   toml::table* target = node->as_table();
-  if (!target) throw InputError(src, 0, 0, "the parent of '" + parts.back() + "' is not a table");
-  target->insert_or_assign(parts.back(), *value_doc.get("v"));
+  if (!target)
+    throw InputError(src, line, col, "the parent of '" + parts.back() + "' is not a table");
+  target->insert_or_assign(parts.back(), value);
+}
+
+void applyOverride(toml::table& root, const std::string& assignment) {
+  const std::string src = "--set " + assignment;
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(src, 0, 0, "expected key=value, e.g. simulation.end_time=2e-5");
+  const toml::table value_doc = parseText("v = " + assignment.substr(eq + 1), src);
+  setAt(root, assignment.substr(0, eq), *value_doc.get("v"), src, 0, 0);
+}
+
+// `resolution = "NAME"` picks the table [resolutions.NAME] of the scene: dotted key paths and
+// the values they get, applied like --set (so a scene carries its own quick, default and fine
+// meshes). "default" needs no table.
+std::string applyResolution(toml::table& root, const std::string& file) {
+  const std::string name = string(root, "resolution", file, "default");
+  const toml::table* presets = table(root, "resolutions", file);
+  const toml::table* preset = presets ? table(*presets, name, file) : nullptr;
+  if (!preset) {
+    if (name == "default") return name;
+    std::string known;
+    if (presets)
+      for (auto&& [k, v] : *presets) known += (known.empty() ? "" : ", ") + std::string(k.str());
+    fail(file, where(root, "resolution"),
+         "unknown resolution '" + name + "' (the scene's [resolutions] has: " +
+             (known.empty() ? "none" : known) + ")");
+  }
+  for (auto&& [k, v] : *preset)
+    setAt(root, std::string(k.str()), v, file, static_cast<int>(k.source().begin.line),
+          static_cast<int>(k.source().begin.column));
+  return name;
 }
 
 // ---- pieces of the scene ----------------------------------------------------------------
@@ -309,14 +351,18 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
     sc.text = ss.str();
   }
   toml::table root = parseText(sc.text, path);
-  for (const std::string& o : overrides) {
-    applyOverride(root, o);
-    sc.text += "\n# --set " + o;
-  }
   const std::string& file = path;
+  for (const std::string& o : overrides) applyOverride(root, o);
+  // The resolution preset first, then the --set overrides again so that they win over it.
+  sc.resolution = applyResolution(root, file);
+  if (sc.resolution != "default") {
+    for (const std::string& o : overrides) applyOverride(root, o);
+    sc.text += "\n# resolution: " + sc.resolution;
+  }
+  for (const std::string& o : overrides) sc.text += "\n# --set " + o;
   allowKeys(root, file,
-            {"title", "simulation", "output", "contact", "conversion", "sph", "materials",
-             "bodies", "boundary"},
+            {"title", "resolution", "resolutions", "simulation", "output", "contact",
+             "conversion", "sph", "materials", "bodies", "boundary"},
             "the scene");
   sc.title = string(root, "title", file, fs::path(path).stem().string());
   readSimulation(*table(root, "simulation", file, true), file, sc);

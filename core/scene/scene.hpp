@@ -52,6 +52,7 @@ struct Scene {
   std::string path;    ///< the scene file
   std::string text;    ///< its text after --set overrides, for the run's metadata
   std::string title;
+  std::string resolution = "default";  ///< the [resolutions] preset applied
   SolverControls controls;
   SphControls sph;     ///< [sph]: particle parameters
   OutputSpec output;

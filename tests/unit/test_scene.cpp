@@ -164,3 +164,50 @@ TEST_CASE("the command line end time keeps its precision", "[unit][scene]") {
   REQUIRE(WIFEXITED(status));
   REQUIRE(WEXITSTATUS(status) == 0);
 }
+
+TEST_CASE("resolution presets apply their keys, and --set wins over them", "[unit][scene]") {
+  const std::string text = std::string(kGoodScene) + R"(
+[resolutions.quick]
+"bodies.bar.shape.mesh_size" = 3e-3
+"simulation.end_time" = 5e-7
+[resolutions.fine]
+"bodies.0.shape.mesh_size" = 1e-3
+)";
+  const std::string path = writeScene("resolutions.toml", text);
+  const auto mesh_size = [](const Scene& sc) {
+    return std::get<ProjectileSpec>(sc.bodies[0].shape).mesh_size;
+  };
+  const Scene plain = loadScene(path, {}, library());
+  CHECK(plain.resolution == "default");
+  CHECK(mesh_size(plain) == 2e-3);
+  const Scene quick = loadScene(path, {"resolution=\"quick\""}, library());
+  CHECK(quick.resolution == "quick");
+  CHECK(mesh_size(quick) == 3e-3);  // by body name
+  CHECK(quick.controls.end_time == 5e-7);
+  CHECK(mesh_size(loadScene(path, {"resolution=\"fine\""}, library())) == 1e-3);  // by index
+  const Scene mixed =
+      loadScene(path, {"resolution=\"quick\"", "simulation.end_time=2e-6"}, library());
+  CHECK(mixed.controls.end_time == 2e-6);  // the command line wins over the preset
+
+  // An unknown preset names the line of `resolution` and the presets there are.
+  const std::string bad = writeScene("bad_resolution.toml", "resolution = \"coarse\"\n" + text);
+  try {
+    loadScene(bad, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.line() == 1);
+    CHECK(std::string(e.what()).find("unknown resolution 'coarse'") != std::string::npos);
+    CHECK(std::string(e.what()).find("quick") != std::string::npos);
+    CHECK(std::string(e.what()).find("fine") != std::string::npos);
+  }
+  // A preset key that leads nowhere names the preset's line.
+  const std::string wrong = writeScene(
+      "bad_preset.toml", std::string(kGoodScene) + "[resolutions.quick]\n\"bodies.7.x\" = 1\n");
+  try {
+    loadScene(wrong, {"resolution=\"quick\""}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.line() == 14);  // kGoodScene has 12 lines, then the table header
+    CHECK(std::string(e.what()).find("'7' is neither an index") != std::string::npos);
+  }
+}
