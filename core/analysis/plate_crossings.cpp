@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/plate_crossings.hpp"
+
+#include "core/analysis/fragments.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+namespace fesph {
+
+namespace {
+
+// Largest depth behind the plate's front face over the given nodes (positive: behind).
+double leadingDepth(const Model& model, const PlateCrossing& p, const std::vector<int>& nodes) {
+  double depth = -std::numeric_limits<double>::infinity();
+  for (int a : nodes) depth = std::max(depth, -(model.nodes.x[a] - p.front).dot(p.normal));
+  return depth;
+}
+
+double projectileMass0(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  double m = 0;
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e)
+    m += model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
+  return m;
+}
+
+}  // namespace
+
+PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
+  for (std::size_t b = 0; b < model.bodies.size(); ++b)
+    if (model.bodies[b].is_projectile && projectile_ < 0) projectile_ = static_cast<int>(b);
+  if (projectile_ < 0) return;
+  const Body& pb = model.bodies[projectile_];
+  Vec3 v0 = Vec3::Zero(), c0 = Vec3::Zero();
+  double m0 = 0, zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a) {
+    v0 += model.nodes.m[a] * model.nodes.v[a];
+    c0 += model.nodes.m[a] * model.nodes.x[a];
+    m0 += model.nodes.m[a];
+  }
+  if (!(m0 > 0) || v0.norm() == 0) return;
+  const Vec3 dir = v0.normalized();
+  c0 /= m0;
+  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a) {
+    zmin = std::min(zmin, model.nodes.x[a].dot(dir));
+    zmax = std::max(zmax, model.nodes.x[a].dot(dir));
+  }
+  const double length = zmax - zmin;
+
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const auto* spec = std::get_if<PlateSpec>(&scene.bodies[b].shape);
+    if (!spec || static_cast<int>(b) == projectile_) continue;
+    PlateCrossing p;
+    p.body = static_cast<int>(b);
+    p.name = scene.bodies[b].name;
+    p.normal = scene.bodies[b].placement.rotation * Vec3::UnitZ();
+    p.front = scene.bodies[b].placement.translation;
+    p.thickness = spec->thickness;
+    plates_.push_back(p);
+  }
+  std::stable_sort(plates_.begin(), plates_.end(), [&](const auto& a, const auto& b) {
+    return (a.front - c0).dot(dir) < (b.front - c0).dot(dir);
+  });
+  // Clear gap between consecutive plates, measured along the normal of the first one.
+  double gap = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k + 1 < plates_.size(); ++k) {
+    const PlateCrossing& p = plates_[k];
+    gap = std::min(gap, -(plates_[k + 1].front - p.front).dot(p.normal) - p.thickness);
+  }
+  if (plates_.size() < 2) gap = length;
+  for (PlateCrossing& p : plates_) p.measure_depth = p.thickness + gap;
+}
+
+void PlateCrossings::update(const Model& model) {
+  if (projectile_ < 0 || next_ >= plates_.size()) return;
+  const Body& pb = model.bodies[projectile_];
+  std::vector<int> live;
+  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a)
+    if (model.nodes.m[a] > 0) live.push_back(static_cast<int>(a));
+  if (live.empty()) return;
+  for (PlateCrossing& p : plates_)
+    if (p.t_contact < 0 && leadingDepth(model, p, live) >= 0) p.t_contact = model.time;
+  // Any live node past the measuring plane: is it the largest piece's?
+  while (next_ < plates_.size()) {
+    PlateCrossing& p = plates_[next_];
+    if (leadingDepth(model, p, live) < p.measure_depth) return;
+    const std::vector<Piece> pieces = bodyPieces(model, projectile_);
+    if (pieces.empty() || leadingDepth(model, p, pieces.front().nodes) < p.measure_depth) return;
+    p.t_measured = model.time;
+    p.velocity = pieces.front().velocity;
+    p.speed = p.velocity.norm();
+    const double m0 = projectileMass0(model, projectile_);
+    p.mass_fraction = m0 > 0 ? pieces.front().mass / m0 : 0.0;
+    ++next_;
+  }
+}
+
+void PlateCrossings::writeCsv(const std::string& path) const {
+  std::ofstream out(path);
+  out << "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
+         "mass_fraction\n";
+  for (std::size_t k = 0; k < plates_.size(); ++k) {
+    const PlateCrossing& p = plates_[k];
+    char row[512];
+    if (p.t_measured >= 0)
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g\n", k + 1,
+                    p.name.c_str(), p.t_contact, p.t_measured, p.speed, p.velocity.x(),
+                    p.velocity.y(), p.velocity.z(), p.mass_fraction);
+    else if (p.t_contact >= 0)
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,,,,,,\n", k + 1, p.name.c_str(), p.t_contact);
+    else
+      std::snprintf(row, sizeof row, "%zu,%s,,,,,,,\n", k + 1, p.name.c_str());
+    out << row;
+  }
+}
+
+}  // namespace fesph

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// Residual velocity after each plate of a spaced-plate target, the one definition used by the
+// run summary, residual_velocities.csv and the report:
+//
+//   v_k = speed of the projectile's largest intact piece (fragments.hpp) at the first instant
+//         its leading node reaches the measuring plane of plate k: the plane parallel to the
+//         plate at the clear gap g behind its rear face. With equal gaps that plane is the
+//         front face of plate k+1, so v_k is the speed at the end of the free flight after
+//         plate k, just before the next impact; the last plate gets a virtual next plate at
+//         the same gap. g = the smallest clear gap between consecutive plates, or, for a
+//         single plate, the projectile's length.
+#pragma once
+
+#include "core/common/types.hpp"
+#include "core/scene/scene.hpp"
+#include "core/state/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace fesph {
+
+struct PlateCrossing {
+  int body = -1;
+  std::string name;
+  Vec3 normal = Vec3::UnitZ();  ///< unit normal of the front face, towards the projectile
+  Vec3 front = Vec3::Zero();    ///< a point of the front face, m
+  double thickness = 0;         ///< m
+  double measure_depth = 0;     ///< depth of the measuring plane behind the front face, m
+  // Filled in as the run goes:
+  double t_contact = -1;        ///< s, the leading node reached the front face (-1: not yet)
+  double t_measured = -1;       ///< s, v_k was taken (-1: not yet)
+  Vec3 velocity = Vec3::Zero(); ///< v_k as a vector, m/s
+  double speed = 0;             ///< |v_k|, m/s
+  double mass_fraction = 0;     ///< the piece's mass over the projectile's initial mass
+};
+
+class PlateCrossings {
+ public:
+  /// The plates of `scene` (bodies with a plate shape) in the order the projectile meets them
+  /// (along its initial velocity). No projectile or no plate: nothing is tracked.
+  PlateCrossings(const Scene& scene, const Model& model);
+  /// Look at the model after a step; cheap until the projectile nears a measuring plane.
+  void update(const Model& model);
+  const std::vector<PlateCrossing>& plates() const { return plates_; }
+  int projectile() const { return projectile_; }
+  /// residual_velocities.csv: one row per plate, empty fields where nothing was measured.
+  void writeCsv(const std::string& path) const;
+
+ private:
+  std::vector<PlateCrossing> plates_;
+  int projectile_ = -1;
+  std::size_t next_ = 0;  ///< the first plate not measured yet
+};
+
+}  // namespace fesph

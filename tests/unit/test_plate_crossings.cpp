@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+// The residual velocity after each plate is taken where its definition says (plate_crossings.hpp).
+#include "core/analysis/plate_crossings.hpp"
+#include "core/solver/step.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace fesph;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A projectile in free flight at 1000 m/s past two plates set beside its path: nothing slows it,
+// so v_k is 1000 m/s and the crossing times follow from the geometry alone.
+const char* kScene = R"(title = "crossings"
+[simulation]
+end_time = 30e-6
+[[bodies]]
+name = "shot"
+material = "steel_4340"
+projectile = true
+velocity = [0, 0, -1000]
+position = [0, 0, 1e-3]        # nose at z = 1 mm
+[bodies.shape]
+type = "projectile"
+diameter = 4e-3
+length = 6e-3
+mesh_size = 2e-3
+[[bodies]]
+name = "second"                # listed first, met second: the order follows the flight
+material = "A36"
+position = [60e-3, 0, -15e-3]  # front z = -15 mm, 60 mm beside the path
+[bodies.shape]
+type = "plate"
+size_x = 20e-3
+size_y = 20e-3
+thickness = 2e-3
+mesh_size = 5e-3
+coarse_size = 5e-3
+[[bodies]]
+name = "first"
+material = "A36"
+position = [60e-3, 0, -5e-3]   # front z = -5 mm, rear -7 mm: clear gap 8 mm
+[bodies.shape]
+type = "plate"
+size_x = 20e-3
+size_y = 20e-3
+thickness = 2e-3
+mesh_size = 5e-3
+coarse_size = 5e-3
+)";
+
+}  // namespace
+
+TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[unit][analysis]") {
+  const fs::path dir = fs::temp_directory_path() / "fesph_crossings";
+  fs::create_directories(dir);
+  const std::string path = (dir / "scene.toml").string();
+  std::ofstream(path) << kScene;
+  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  Model m = buildModel(sc);
+  PlateCrossings crossings(sc, m);
+  REQUIRE(crossings.plates().size() == 2);
+  CHECK(crossings.plates()[0].name == "first");
+  CHECK(crossings.plates()[1].name == "second");
+  // Measuring planes: the clear gap (8 mm) behind each rear face, i.e. z = -15 mm (the front
+  // face of the second plate) and z = -25 mm.
+  CHECK(crossings.plates()[0].measure_depth == Approx(10e-3));
+  double dt_max = 0;
+  while (m.time < m.controls.end_time * (1 - 1e-12)) {
+    step(m, m.controls.end_time);
+    dt_max = std::max(dt_max, m.dt);
+    crossings.update(m);
+  }
+  // The nose (z = 1 mm at t = 0) reaches z = -5, -15, -25 mm at 6, 16 and 26 us; each event is
+  // seen at the end of the step in which it happens (within one step).
+  const auto& p = crossings.plates();
+  CHECK(p[0].t_contact == Approx(6e-6).margin(dt_max));
+  CHECK(p[1].t_contact == Approx(16e-6).margin(dt_max));
+  CHECK(p[0].t_measured == Approx(16e-6).margin(dt_max));
+  CHECK(p[1].t_measured == Approx(26e-6).margin(dt_max));
+  for (const PlateCrossing& c : p) {
+    CHECK(c.speed == Approx(1000.0).epsilon(1e-9));  // free flight: unchanged
+    CHECK(c.mass_fraction == Approx(1.0).epsilon(1e-12));
+  }
+  crossings.writeCsv((dir / "rv.csv").string());
+  std::ifstream in(dir / "rv.csv");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  CHECK(ss.str().find("1,first,") != std::string::npos);
+  CHECK(ss.str().find("2,second,") != std::string::npos);
+}
