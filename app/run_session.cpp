@@ -2,6 +2,7 @@
 #include "app/run_session.hpp"
 
 #include "core/analysis/fragments.hpp"
+#include "core/analysis/plate_crossings.hpp"
 #include "core/common/error.hpp"
 #include "core/solver/step.hpp"
 #include "core/state/model_build.hpp"
@@ -61,6 +62,7 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
     throw InputError(scene_path, 0, 0, std::string("[output] fields: ") + e.what());
   }
   history_ = std::make_unique<HistoryCsv>(dir + "/history.csv", model_);
+  crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
   next_output_ = scene_.output.interval;
 }
 
@@ -68,6 +70,7 @@ bool RunSession::complete() const { return reached(model_.time, endTime()); }
 
 void RunSession::writeOutput() {
   series_->write(model_, model_.time);
+  crossings_->writeCsv(folder() + "/residual_velocities.csv");
 }
 
 StopReason RunSession::advance(double until_time, long max_steps,
@@ -92,6 +95,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
       wall_solver_ +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       element_steps_ += static_cast<double>(liveElements(model_));
+      crossings_->update(model_);
       if (model_.step % scene_.output.history_every == 1) history_->record(model_);
       if (reached(model_.time, t_stop)) {
         if (t_stop == next_output_ || complete()) {
@@ -106,6 +110,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
   } catch (const RunError& e) {
     failure_ = e.what();
     history_->record(model_);
+    crossings_->writeCsv(folder() + "/residual_velocities.csv");
     return StopReason::Failed;
   }
 }
@@ -144,6 +149,16 @@ void RunSession::printSummary() const {
                 "mass; %s)\n",
                 r.speed, 100 * r.mass_fraction,
                 r.cleared ? "it has cleared every target" : "not clear of the targets yet");
+  }
+  const auto& plates = crossings_->plates();
+  for (std::size_t k = 0; k < plates.size(); ++k) {
+    const PlateCrossing& p = plates[k];
+    if (p.t_measured >= 0)
+      std::printf("  after plate %zu    %.1f m/s at t = %.4g s ('%s'; piece %.1f %% of the mass)\n",
+                  k + 1, p.speed, p.t_measured, p.name.c_str(), 100 * p.mass_fraction);
+    else
+      std::printf("  after plate %zu    not measured (%s)\n", k + 1,
+                  p.t_contact >= 0 ? "hit, not through yet" : "not reached");
   }
   std::printf("  output           %s\n", folder().c_str());
 }

@@ -19,6 +19,7 @@
 namespace fesph {
 
 class SeriesWriter;
+class PlateCrossings;
 
 /// Why RunSession::advance returned.
 enum class StopReason {
@@ -66,6 +67,8 @@ class RunSession {
   const Model& model() const { return model_; }
   Model& model() { return model_; }
   const Scene& scene() const { return scene_; }
+  /// Residual velocity after each plate (plate_crossings.hpp), as measured so far.
+  const PlateCrossings& crossings() const { return *crossings_; }
   const std::string& folder() const { return scene_.output.folder; }
   double endTime() const { return model_.controls.end_time; }
 
@@ -76,6 +79,7 @@ class RunSession {
   Model model_;
   std::unique_ptr<SeriesWriter> series_;
   std::unique_ptr<HistoryCsv> history_;
+  std::unique_ptr<PlateCrossings> crossings_;
   std::function<void(const Model&)> on_step_;
   std::string failure_;
   bool started_ = false;     ///< the initial output is written
