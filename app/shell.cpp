@@ -150,7 +150,15 @@ void applySet(toml::table& root, const std::string& kv) {
       node = t->get(parts[i]);
       if (!node) node = &t->insert_or_assign(parts[i], toml::table{}).first->second;
     } else if (toml::array* a = node->as_array()) {
-      node = a->get(std::stoul(parts[i]));
+      // An index, or the name of one of the array's tables (bodies.plate).
+      const std::string& p = parts[i];
+      if (!p.empty() && p.find_first_not_of("0123456789") == std::string::npos) {
+        node = a->get(std::stoul(p));
+      } else {
+        node = nullptr;
+        for (toml::node& e : *a)
+          if (e.is_table() && (*e.as_table())["name"].value_or(std::string()) == p) node = &e;
+      }
     } else {
       node = nullptr;
     }
@@ -782,6 +790,9 @@ std::vector<std::string> Workbench::completions(const std::vector<std::string>& 
     if (session_)
       for (const Body& b : session_->model().bodies)
         if (!b.is_projectile) all.push_back(b.name);
+    if (!run_dir_.empty())
+      for (const RunBody& b : readRunInfo(run_dir_).bodies)
+        if (!b.projectile) all.push_back(b.name);
   } else if (cmd == "render" && n >= 3) {
     all = {"front", "rear"};
     for (const std::string& f : SeriesWriter::elementFields()) all.push_back(f);
