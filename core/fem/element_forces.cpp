@@ -2,8 +2,10 @@
 #include "core/fem/element_forces.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/ordered_sum.hpp"
 #include "core/conversion/convert.hpp"
 #include "core/fem/tet4.hpp"
+#include "core/mesh/mesh.hpp"
 
 #include <cmath>
 #include <limits>
@@ -13,9 +15,14 @@ namespace fesph {
 
 namespace {
 
-std::array<Vec3, 4> gatherNodes(const std::vector<Vec3>& field, const std::array<int, 4>& c) {
-  return {field[c[0]], field[c[1]], field[c[2]], field[c[3]]};
-}
+/// The four nodes of an element, by reference: copying them (24-byte vectors) onto the stack
+/// cost more than the arithmetic on them (store-forwarding stalls on the reloads).
+struct Corners {
+  std::array<const Vec3*, 4> p;
+  Corners(const std::vector<Vec3>& field, const std::array<int, 4>& n)
+      : p{&field[n[0]], &field[n[1]], &field[n[2]], &field[n[3]]} {}
+  const Vec3& operator[](int k) const { return *p[k]; }
+};
 
 [[noreturn]] void invertedElement(const Model& model, std::size_t e) {
   const Body& b = model.bodies[model.elems.body[e]];
@@ -32,17 +39,17 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   const Nodes& nd = model.nodes;
   const Material& mat = model.materials[el.material[e]];
   const auto& c = el.conn[e];
-  const std::array<Vec3, 4> x = gatherNodes(nd.x, c);
-  const std::array<Vec3, 4> v = gatherNodes(nd.v, c);
+  const Corners x(nd.x, c), v(nd.v, c);
 
   // x^{n-1/2} = x^n - dt/2 v^{n-1/2}: the configuration at which the rate is centred.
-  std::array<Vec3, 4> xm;
-  for (int a = 0; a < 4; ++a) xm[a] = x[a] - 0.5 * dt * v[a];
-  const TetGeometry gm = tetGeometry(xm[0], xm[1], xm[2], xm[3]);
-  const TetGeometry gn = tetGeometry(x[0], x[1], x[2], x[3]);
-  if (!(gn.volume > 0) || !(gm.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double half_dt = 0.5 * dt;
+  const TetGeometry gm = tetGeometry(x[0] - half_dt * v[0], x[1] - half_dt * v[1],
+                                     x[2] - half_dt * v[2], x[3] - half_dt * v[3]);
+  const double vol = tetVolume(x[0], x[1], x[2], x[3]);  // same bits as tetGeometry's
+  if (!(vol > 0) || !(gm.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
 
-  const Mat3 L = velocityGradient(v, gm.grad);
+  Mat3 L = Mat3::Zero();  // velocityGradient (tet4.hpp) on the nodes in place
+  for (int a = 0; a < 4; ++a) L.noalias() += v[a] * gm.grad[a].transpose();
   const Sym D = Sym::fromMatrix(L);
   const Mat3 W = 0.5 * (L - L.transpose());
   PointState& st = el.state[e];
@@ -53,12 +60,12 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
 
   const double mass = mat.rho0 * el.V0[e];
   st.e += dev_work / mass;
-  el.dV[e] = gn.volume - el.V[e];
-  el.V[e] = gn.volume;
-  el.rho[e] = mass / gn.volume;
+  el.dV[e] = vol - el.V[e];
+  el.V[e] = vol;
+  el.rho[e] = mass / vol;
 
   el.div_v[e] = D.trace();
-  el.len[e] = smallestAltitude(x[0], x[1], x[2], x[3], gn.volume);
+  el.len[e] = smallestAltitude(x[0], x[1], x[2], x[3], vol);
   if (el.len0[e] == 0) el.len0[e] = el.len[e];
   return wp * gm.volume;
 }
@@ -81,6 +88,52 @@ void viscosityAndStableStep(Model& model, std::size_t e, double rho_avg, double 
   el.dt[e] = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
 }
 
+// Pass C for live element e: volumetric deformation (own, or ANP blended with its own), bulk
+// viscosity and stable step, energy and pressure, corner forces. Returns the internal energy
+// (J); `q_work` receives the bulk viscosity work over the interval (J).
+double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double& q_work) {
+  Elements& el = model.elems;
+  const Nodes& nd = model.nodes;
+  const Material& mat = model.materials[el.material[e]];
+  const auto& c = el.conn[e];
+  PointState& st = el.state[e];
+  const double mass = mat.rho0 * el.V0[e];
+
+  // Volumetric deformation: the element's own, or the mean of its nodes' (ANP) blended with
+  // a small share of its own. Pure ANP leaves an element's own volume unresisted: rim
+  // elements of a Taylor bar were crushed to V/V0 = 0.45 and the step fell below 1 ns.
+  double rho_vol = el.rho[e];
+  double own = 1.0;
+  if (anp) {
+    double J = 0;
+    for (int a = 0; a < 4; ++a) J += model.nodal_volume[c[a]] / model.nodal_volume0[c[a]];
+    rho_vol = mat.rho0 / (0.25 * J);
+    own = model.controls.anp_element_fraction;
+  }
+  viscosityAndStableStep(model, e, rho_vol, own);
+  // Energy over the interval, trapezoidal in pressure: one predictor, one corrector,
+  // since the Mie-Grueneisen pressure depends on the energy it updates.
+  const double dV = el.dV[e];
+  const double p_old = st.p, q = el.q[e];
+  auto pressure = [&](double e_spec) {
+    const double p_avg = eosPressure(mat, rho_vol, e_spec, st.damage);
+    return own == 1.0 ? p_avg
+                      : (1 - own) * p_avg + own * eosPressure(mat, el.rho[e], e_spec, st.damage);
+  };
+  double p_new = pressure(st.e - (p_old + q) * dV / mass);
+  const double vol_work = -(0.5 * (p_old + p_new) + q) * dV;
+  st.e += vol_work / mass;
+  p_new = pressure(st.e);
+  st.p = p_new;
+  q_work = -q * dV;
+
+  const TetGeometry g = tetGeometry(nd.x[c[0]], nd.x[c[1]], nd.x[c[2]], nd.x[c[3]]);
+  Mat3 sigma = st.s.matrix();
+  sigma.diagonal().array() -= (st.p + q);
+  for (int a = 0; a < 4; ++a) model.corner_force[e][a] = -g.volume * (sigma * g.grad[a]);
+  return mass * st.e;
+}
+
 }  // namespace
 
 void computeElementForces(Model& model, double dt_last) {
@@ -88,19 +141,20 @@ void computeElementForces(Model& model, double dt_last) {
   Nodes& nd = model.nodes;
   const std::size_t ne = el.size();
 
-  double plastic_sum = 0;
-  bool any_inverted = false;
-#pragma omp parallel for schedule(static) reduction(+ : plastic_sum) reduction(|| : any_inverted)
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (el.status[e] != ElemStatus::Live) continue;
-    const double wp = updateKinematicsAndDeviator(model, e, dt_last);
-    if (std::isnan(wp)) {
-      el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
-      any_inverted = true;
-    } else {
-      plastic_sum += wp;
-    }
-  }
+  // Energy sums in a fixed order (ordered_sum.hpp): the same bits for any thread count.
+  const std::array<double, 2> a_sums =
+      orderedSums<2>(ne, [&](std::size_t e, std::array<double, 2>& sum) {
+        if (el.status[e] != ElemStatus::Live) return;
+        const double wp = updateKinematicsAndDeviator(model, e, dt_last);
+        if (std::isnan(wp)) {
+          el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
+          sum[1] += 1;
+        } else {
+          sum[0] += wp;
+        }
+      });
+  const double plastic_sum = a_sums[0];
+  const bool any_inverted = a_sums[1] > 0;
   // An element that inverted within one step escaped the safety triggers: in a conversion or
   // erosion run it goes the same way as a failed element (counted as safety), otherwise the
   // run stops naming it. Serial and in element order, so the result is reproducible.
@@ -129,50 +183,13 @@ void computeElementForces(Model& model, double dt_last) {
   }
 
   // Pass C: volumetric response, energy, corner forces.
-  double internal_sum = 0, q_work_sum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : internal_sum, q_work_sum)
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (el.status[e] != ElemStatus::Live) continue;
-    const Material& mat = model.materials[el.material[e]];
-    const auto& c = el.conn[e];
-    PointState& st = el.state[e];
-    const double mass = mat.rho0 * el.V0[e];
-
-    // Volumetric deformation: the element's own, or the mean of its nodes' (ANP) blended with
-    // a small share of its own. Pure ANP leaves an element's own volume unresisted: rim
-    // elements of a Taylor bar were crushed to V/V0 = 0.45 and the step fell below 1 ns.
-    double rho_vol = el.rho[e];
-    double own = 1.0;
-    if (anp) {
-      double J = 0;
-      for (int a = 0; a < 4; ++a) J += model.nodal_volume[c[a]] / model.nodal_volume0[c[a]];
-      rho_vol = mat.rho0 / (0.25 * J);
-      own = model.controls.anp_element_fraction;
-    }
-    viscosityAndStableStep(model, e, rho_vol, own);
-    // Energy over the interval, trapezoidal in pressure: one predictor, one corrector,
-    // since the Mie-Grueneisen pressure depends on the energy it updates.
-    const double dV = el.dV[e];
-    const double p_old = st.p, q = el.q[e];
-    auto pressure = [&](double e_spec) {
-      const double p_avg = eosPressure(mat, rho_vol, e_spec, st.damage);
-      return own == 1.0 ? p_avg
-                        : (1 - own) * p_avg + own * eosPressure(mat, el.rho[e], e_spec, st.damage);
-    };
-    double p_new = pressure(st.e - (p_old + q) * dV / mass);
-    const double vol_work = -(0.5 * (p_old + p_new) + q) * dV;
-    st.e += vol_work / mass;
-    p_new = pressure(st.e);
-    st.p = p_new;
-    q_work_sum += -q * dV;
-
-    const std::array<Vec3, 4> x = gatherNodes(nd.x, c);
-    const TetGeometry g = tetGeometry(x[0], x[1], x[2], x[3]);
-    Mat3 sigma = st.s.matrix();
-    sigma.diagonal().array() -= (st.p + q);
-    for (int a = 0; a < 4; ++a) model.corner_force[e][a] = -g.volume * (sigma * g.grad[a]);
-    internal_sum += mass * st.e;
-  }
+  const std::array<double, 2> c_sums =
+      orderedSums<2>(ne, [&](std::size_t e, std::array<double, 2>& sum) {
+        if (el.status[e] != ElemStatus::Live) return;
+        double q_work = 0;
+        sum[0] += volumetricResponseAndForces(model, e, anp, q_work);
+        sum[1] += q_work;
+      });
   // Gather the corner forces per node in a fixed order: no atomics, same result for any
   // thread count (LULESH's scheme).
 #pragma omp parallel for schedule(static)
@@ -187,8 +204,8 @@ void computeElementForces(Model& model, double dt_last) {
   }
 
   model.energy.plastic_work += plastic_sum;
-  model.energy.bulk_viscosity += q_work_sum;
-  model.energy.internal = internal_sum;
+  model.energy.bulk_viscosity += c_sums[1];
+  model.energy.internal = c_sums[0];
 }
 
 }  // namespace fesph

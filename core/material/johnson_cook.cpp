@@ -18,50 +18,70 @@ double logRateRatio(const Material& mat, double eps_dot) {
   return std::log(std::max(1.0, eps_dot / mat.eps_dot0));
 }
 
+namespace {
+
+/// The thermal factor 1 - T*^m of the flow stress.
+double thermalFactor(const Material& mat, double T) {
+  const double Ts = homologousTemperature(mat, T);
+  return Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
+}
+
+/// flowStress with its thermal factor given.
+double flowStressAt(const Material& mat, double eps_p, double eps_dot, double thermal) {
+  if (mat.strength == StrengthModel::Elastic) return std::numeric_limits<double>::infinity();
+  const double ep = std::max(eps_p, 0.0);
+  const double hardening = mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
+  const double rate = 1.0 + mat.C * logRateRatio(mat, eps_dot);
+  return hardening * rate * thermal;
+}
+
+}  // namespace
+
 /// Johnson & Cook 1983 (7th Int. Symp. Ballistics, The Hague), eq. 1:
 ///   sigma_y = (A + B eps_p^n)(1 + C ln eps_dot*)(1 - T*^m)   [Pa]
 /// eps_p plastic strain (-), eps_dot equivalent strain rate (1/s), T temperature (K);
 /// eps_dot* = max(1, eps_dot/eps_dot0), T* = homologousTemperature in [0, 1].
 /// The elastic strength model never yields: its flow stress is +infinity.
 double flowStress(const Material& mat, double eps_p, double eps_dot, double T) {
-  if (mat.strength == StrengthModel::Elastic) return std::numeric_limits<double>::infinity();
-  const double ep = std::max(eps_p, 0.0);
-  const double hardening = mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
-  const double rate = 1.0 + mat.C * logRateRatio(mat, eps_dot);
-  const double Ts = homologousTemperature(mat, T);
-  const double thermal = Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
-  return hardening * rate * thermal;
+  return flowStressAt(mat, eps_p, eps_dot, thermalFactor(mat, T));
 }
 
 namespace {
 
-/// Flow stress at the end of a plastic increment dlam taken over dt: the strain is eps_p + dlam
-/// and the rate is the plastic strain rate dlam / dt (Johnson & Cook 1983 define eps_dot* with
-/// the equivalent plastic strain rate). dt <= 0: quasi-static.
-double flowStressAfter(const Material& mat, double eps_p, double dlam, double dt, double T) {
-  return flowStress(mat, eps_p + dlam, dt > 0.0 ? dlam / dt : 0.0, T);
+/// W s - s W for a spin W (antisymmetric) and a symmetric s: with M = W s, s W = -M^T, so
+/// the rotation is M + M^T, and only M is formed (same bits as the two full products).
+Sym jaumannRate(const Mat3& W, const Sym& s) {
+  const Mat3 M = W * s.matrix();
+  return {2.0 * M(0, 0), 2.0 * M(1, 1), 2.0 * M(2, 2), M(0, 1) + M(1, 0), M(1, 2) + M(2, 1),
+          M(2, 0) + M(0, 2)};
 }
 
-/// d sigma_y / d dlam of flowStressAfter (Pa): hardening slope times the rate factor plus the
-/// hardening times the slope of the rate factor, C / dlam above the reference rate.
-/// +infinity at eps_p + dlam = 0 when n < 1.
-double flowStressSlope(const Material& mat, double eps_p, double dlam, double dt, double T) {
+/// Flow stress at the end of a plastic increment dlam taken over dt: the strain is eps_p + dlam
+/// and the rate is the plastic strain rate dlam / dt (Johnson & Cook 1983 define eps_dot* with
+/// the equivalent plastic strain rate). dt <= 0: quasi-static. `slope` (if not null) receives
+/// d sigma_y / d dlam (Pa): the hardening slope times the rate factor plus the hardening times
+/// the slope of the rate factor, C / dlam above the reference rate; +infinity at
+/// eps_p + dlam = 0 when n < 1. `thermal` is 1 - T*^m, fixed during a return (T is the
+/// temperature at its start), so evaluated once by the caller; the strain and rate terms are
+/// shared by the stress and its slope: one pow and one log fewer per Newton iteration.
+double flowStressAfter(const Material& mat, double eps_p, double dlam, double dt,
+                       double thermal, double* slope = nullptr) {
   const double ep = std::max(eps_p + dlam, 0.0);
-  double slope;
-  if (mat.B == 0.0)
-    slope = 0.0;
-  else if (ep > 0.0)
-    slope = mat.B * mat.n * std::pow(ep, mat.n - 1.0);
-  else
-    slope = mat.n < 1.0 ? std::numeric_limits<double>::infinity()
-                        : (mat.n == 1.0 ? mat.B : 0.0);
   const double rate = dt > 0.0 ? dlam / dt : 0.0;
   const double rate_factor = 1.0 + mat.C * logRateRatio(mat, rate);
-  const double rate_slope = rate > mat.eps_dot0 && dlam > 0.0 ? mat.C / dlam : 0.0;
   const double hardening = mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
-  const double Ts = homologousTemperature(mat, T);
-  const double thermal = Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
-  return (slope * rate_factor + hardening * rate_slope) * thermal;
+  if (slope) {
+    double dh;
+    if (mat.B == 0.0)
+      dh = 0.0;
+    else if (ep > 0.0)
+      dh = mat.B * mat.n * std::pow(ep, mat.n - 1.0);
+    else
+      dh = mat.n < 1.0 ? std::numeric_limits<double>::infinity() : (mat.n == 1.0 ? mat.B : 0.0);
+    const double rate_slope = rate > mat.eps_dot0 && dlam > 0.0 ? mat.C / dlam : 0.0;
+    *slope = (dh * rate_factor + hardening * rate_slope) * thermal;
+  }
+  return hardening * rate_factor * thermal;
 }
 
 /// Plastic multiplier dlam of the radial return: the root of
@@ -71,21 +91,28 @@ double flowStressSlope(const Material& mat, double eps_p, double dlam, double dt
 /// g(hi) <= 0 for hi = (sigma_eq_tr - sigma_y(eps_p, 0))/(3G), so Newton is run inside the
 /// bracket [0, hi] and falls back to bisection when its step leaves the bracket, e.g. at the
 /// infinite slope of n < 1 hardening at eps_p = 0 or of the rate term at the reference rate.
-double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, double dt, double T) {
+/// `sigma_y` receives the flow stress at the root.
+double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, double dt,
+                    double thermal, double& sigma_y) {
   const double G3 = 3.0 * mat.G;
   double lo = 0.0;
-  double hi = (sigma_eq_tr - flowStressAfter(mat, eps_p, 0.0, dt, T)) / G3;
+  double hi = (sigma_eq_tr - flowStressAfter(mat, eps_p, 0.0, dt, thermal)) / G3;
   double x = hi;
   for (int it = 0; it < 200; ++it) {
-    const double sy = flowStressAfter(mat, eps_p, x, dt, T);
+    double slope = 0;
+    const double sy = flowStressAfter(mat, eps_p, x, dt, thermal, &slope);
     const double g = sigma_eq_tr - G3 * x - sy;
     // 1e-10 sigma_y is 100x inside the 1e-8 promised; the second term is round-off in g.
-    if (std::abs(g) <= 1e-10 * sy + 1e-14 * sigma_eq_tr) return x;
+    if (std::abs(g) <= 1e-10 * sy + 1e-14 * sigma_eq_tr) {
+      sigma_y = sy;
+      return x;
+    }
     (g > 0.0 ? lo : hi) = x;
-    const double xn = x + g / (G3 + flowStressSlope(mat, eps_p, x, dt, T));
+    const double xn = x + g / (G3 + slope);
     x = (xn > lo && xn < hi) ? xn : 0.5 * (lo + hi);
     if (hi - lo <= 4e-16 * hi) break;  // bracket at round-off: x is the root
   }
+  sigma_y = flowStressAfter(mat, eps_p, x, dt, thermal);
   return x;
 }
 
@@ -108,17 +135,17 @@ double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, 
     st.s = Sym{};
     return 0.0;
   }
-  const Mat3 S = st.s.matrix();
   const Sym dev_D = D.deviator();
-  const Sym s_tr =
-      st.s + Sym::fromMatrix(W * S - S * W) * dt + dev_D * (2.0 * mat.G * dt);
+  const Sym s_tr = st.s + jaumannRate(W, st.s) * dt + dev_D * (2.0 * mat.G * dt);
   st.s = s_tr;
 
-  const double sigma_eq_tr = vonMises(s_tr);
   // Inside the quasi-static yield surface: elastic. Always so for the Elastic model.
-  if (sigma_eq_tr <= flowStress(mat, st.eps_p, 0.0, st.T)) return 0.0;
-  const double dlam = radialReturn(mat, sigma_eq_tr, st.eps_p, dt, st.T);
-  const double sigma_y = flowStressAfter(mat, st.eps_p, dlam, dt, st.T);
+  if (mat.strength == StrengthModel::Elastic) return 0.0;
+  const double sigma_eq_tr = vonMises(s_tr);
+  const double thermal = thermalFactor(mat, st.T);
+  if (sigma_eq_tr <= flowStressAt(mat, st.eps_p, 0.0, thermal)) return 0.0;
+  double sigma_y = 0;
+  const double dlam = radialReturn(mat, sigma_eq_tr, st.eps_p, dt, thermal, sigma_y);
   const double rate = dt > 0.0 ? dlam / dt : 0.0;
   st.s = s_tr * (1.0 - 3.0 * mat.G * dlam / sigma_eq_tr);
   const double T0 = st.T;

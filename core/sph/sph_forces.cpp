@@ -25,13 +25,14 @@ Mat3 gradientCorrection(const Mat3& A_raw, std::size_t neighbours, const SphCont
                         bool& corrected) {
   const Mat3 A = 0.5 * (A_raw + A_raw.transpose());
   Eigen::SelfAdjointEigenSolver<Mat3> es;
-  es.computeDirect(A);
+  es.computeDirect(A, Eigen::EigenvaluesOnly);
   const Vec3 lam = es.eigenvalues();  // ascending
   corrected = neighbours >= static_cast<std::size_t>(ctl.min_neighbours) && lam(2) > 0 &&
               lam(0) * ctl.max_condition > lam(2);
   if (corrected) {
-    const Mat3& Q = es.eigenvectors();
-    const Mat3 B = Q * lam.cwiseInverse().asDiagonal() * Q.transpose();
+    // the cofactor inverse: exact to round-off, where rebuilding it from the closed-form
+    // eigenvectors loses digits (1e-9 of a linear field's gradient)
+    const Mat3 B = A.inverse();
     return 0.5 * (B + B.transpose());
   }
   return lam(2) > 0 ? Mat3(Mat3::Identity() / lam(2)) : Mat3(Mat3::Identity());
