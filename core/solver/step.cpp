@@ -2,6 +2,7 @@
 #include "core/solver/step.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/ordered_sum.hpp"
 #include "core/contact/node_face_contact.hpp"
 #include "core/conversion/convert.hpp"
 #include "core/conversion/erosion.hpp"
@@ -25,26 +26,20 @@ struct KineticSums {
 };
 
 KineticSums kineticSums(const Model& model) {
+  // fixed-order sums: the budget has the same bits for any thread count
   const Nodes& nd = model.nodes;
-  double ke = 0, px = 0, py = 0, pz = 0;
-#pragma omp parallel for schedule(static) reduction(+ : ke, px, py, pz)
-  for (std::size_t a = 0; a < nd.size(); ++a) {
-    const double m = nd.m[a];
-    ke += 0.5 * m * nd.v[a].squaredNorm();
-    px += m * nd.v[a].x();
-    py += m * nd.v[a].y();
-    pz += m * nd.v[a].z();
-  }
   const Particles& pa = model.particles;
-#pragma omp parallel for schedule(static) reduction(+ : ke, px, py, pz)
-  for (std::size_t i = 0; i < pa.size(); ++i) {
-    const double m = pa.m[i];
-    ke += 0.5 * m * pa.v[i].squaredNorm();
-    px += m * pa.v[i].x();
-    py += m * pa.v[i].y();
-    pz += m * pa.v[i].z();
-  }
-  return {ke, Vec3(px, py, pz)};
+  auto add = [](double m, const Vec3& v, std::array<double, 4>& s) {
+    s[0] += 0.5 * m * v.squaredNorm();
+    s[1] += m * v.x();
+    s[2] += m * v.y();
+    s[3] += m * v.z();
+  };
+  const std::array<double, 4> n = orderedSums<4>(
+      nd.size(), [&](std::size_t a, std::array<double, 4>& s) { add(nd.m[a], nd.v[a], s); });
+  const std::array<double, 4> p = orderedSums<4>(
+      pa.size(), [&](std::size_t i, std::array<double, 4>& s) { add(pa.m[i], pa.v[i], s); });
+  return {n[0] + p[0], Vec3(n[1] + p[1], n[2] + p[2], n[3] + p[3])};
 }
 
 [[noreturn]] void reportNonFinite(const Model& model) {
@@ -65,20 +60,39 @@ KineticSums kineticSums(const Model& model) {
   throw RunError("non-finite kinetic energy at t = " + std::to_string(model.time) + " s");
 }
 
+/// Element-steps and particle-steps of this step, for the figures of merit.
+void countStepWork(Model& model) {
+  const ConversionStats& cs = model.conversion;
+  model.timing.element_steps +=
+      static_cast<double>(model.elems.size()) - static_cast<double>(cs.eroded + cs.converted);
+  model.timing.particle_steps += static_cast<double>(model.particles.size());
+  ++model.timing.steps;
+}
+
 }  // namespace
 
 double stableTimeStep(Model& model, double t_stop) {
+  // min is exact in any order; the limiter is the lowest index that attains it
   const Elements& el = model.elems;
-  double dt_min = std::numeric_limits<double>::infinity();
-  std::size_t e_min = 0;
-  for (std::size_t e = 0; e < el.size(); ++e) {
-    if (el.status[e] == ElemStatus::Live && el.dt[e] < dt_min) dt_min = el.dt[e], e_min = e;
-  }
-  std::string limiter = "element " + std::to_string(e_min);
   const Particles& pa = model.particles;
-  for (std::size_t i = 0; i < pa.size(); ++i) {
-    if (pa.dt[i] < dt_min) dt_min = pa.dt[i], limiter = "particle " + std::to_string(i);
+  const long ne = static_cast<long>(el.size()), np = static_cast<long>(pa.size());
+  double dt_elem = std::numeric_limits<double>::infinity(), dt_part = dt_elem;
+#pragma omp parallel for schedule(static) reduction(min : dt_elem)
+  for (long e = 0; e < ne; ++e)
+    if (el.status[e] == ElemStatus::Live) dt_elem = std::min(dt_elem, el.dt[e]);
+#pragma omp parallel for schedule(static) reduction(min : dt_part)
+  for (long i = 0; i < np; ++i) dt_part = std::min(dt_part, pa.dt[i]);
+  const bool by_particle = dt_part < dt_elem;
+  const double dt_min = by_particle ? dt_part : dt_elem;
+  long first = by_particle ? np : ne;
+#pragma omp parallel for schedule(static) reduction(min : first)
+  for (long k = 0; k < (by_particle ? np : ne); ++k) {
+    const bool hit = by_particle ? pa.dt[k] == dt_min
+                                 : el.status[k] == ElemStatus::Live && el.dt[k] == dt_min;
+    if (hit) first = std::min(first, k);
   }
+  std::string limiter = (by_particle ? "particle " : "element ") +
+                        std::to_string(first == (by_particle ? np : ne) ? 0 : first);
   double dt = model.controls.courant * dt_min;
   model.dt_limiter = limiter;
   if (model.dt > 0 && dt > model.controls.dt_growth * model.dt) {
@@ -107,23 +121,23 @@ double correctionWork(const Model& model, double dt_avg) {
   // (The kinetic energy "removed" from the unconstrained v^{n+1/2} is not a loss: a node
   // held on a wall would count its whole free acceleration every step.)
   const Nodes& nd = model.nodes;
-  double work = 0;
-#pragma omp parallel for schedule(static) reduction(+ : work)
-  for (std::size_t a = 0; a < nd.size(); ++a) {
-    const Vec3 dv = nd.v[a] - model.v_node_free[a];
-    if (nd.m[a] <= 0 || dv.isZero(0)) continue;
-    const Vec3 v_prev = model.v_node_free[a] - (dt_avg / nd.m[a]) * nd.f[a];
-    work += nd.m[a] * dv.dot(0.5 * (v_prev + nd.v[a]));
-  }
   const Particles& pa = model.particles;
-#pragma omp parallel for schedule(static) reduction(+ : work)
-  for (std::size_t i = 0; i < pa.size(); ++i) {
-    const Vec3 dv = pa.v[i] - model.v_particle_free[i];
-    if (dv.isZero(0)) continue;
-    const Vec3 v_prev = model.v_particle_free[i] - (dt_avg / pa.m[i]) * pa.f[i];
-    work += pa.m[i] * dv.dot(0.5 * (v_prev + pa.v[i]));
-  }
-  return work;
+  auto add = [dt_avg](double m, const Vec3& v, const Vec3& v_free, const Vec3& f,
+                      std::array<double, 1>& s) {
+    const Vec3 dv = v - v_free;
+    if (dv.isZero(0)) return;
+    const Vec3 v_prev = v_free - (dt_avg / m) * f;
+    s[0] += m * dv.dot(0.5 * (v_prev + v));
+  };
+  const double work_nodes =
+      orderedSums<1>(nd.size(), [&](std::size_t a, std::array<double, 1>& s) {
+        if (nd.m[a] > 0) add(nd.m[a], nd.v[a], model.v_node_free[a], nd.f[a], s);
+      })[0];
+  const double work_particles =
+      orderedSums<1>(pa.size(), [&](std::size_t i, std::array<double, 1>& s) {
+        add(pa.m[i], pa.v[i], model.v_particle_free[i], pa.f[i], s);
+      })[0];
+  return work_nodes + work_particles;
 }
 
 void recordEnergyBudget(Model& model, double dissipated) {
@@ -164,35 +178,46 @@ void integratePositions(Model& model, double dt) {
 }
 
 void step(Model& model, double t_stop) {
+  PhaseClock clock(model.timing);
   const double dt_last = model.dt;
   switch (model.controls.conversion.mode) {  // on the state the last step left
     case ConversionMode::Erosion: erodeElements(model); break;
     case ConversionMode::Sph: convertElements(model, model.sph.controls.kappa); break;
     case ConversionMode::None: break;
   }
+  clock.lap(Phase::Conversion);
   computeElementForces(model, dt_last);   // stress and forces at t^n (inverted: converted)
   releaseTies(model);                     // faces gone with this step's conversions
+  clock.lap(Phase::Elements);
   computeParticleForces(model, dt_last);  // SPH within each body, at t^n
+  clock.lap(Phase::Particles);
   const double dt = stableTimeStep(model, t_stop);
   const double dt_avg = 0.5 * (dt_last + dt);
+  clock.lap(Phase::TimeStep);
   integrateVelocities(model, dt_avg);     // v^{n+1/2}, free of constraints
   applyFixedVelocities(model);
+  clock.lap(Phase::Integrate);
 
   // Kinematic constraints: velocity corrections on v^{n+1/2}.
   model.v_node_free = model.nodes.v;
   model.v_particle_free = model.particles.v;
   enforceRigidWalls(model, dt);
   enforceNodeFaceContact(model, dt, model.controls.contact);  // element bodies, both ways
+  clock.lap(Phase::Contact);
   enforceParticleFaceContact(model, dt, model.controls.contact.passes);
   enforceTies(model, model.controls.contact.passes);  // converted particles stay coupled
   enforceParticleContact(model, dt);      // particles of different bodies: compression only
+  clock.lap(Phase::Coupling);
   const double dissipated = -correctionWork(model, dt_avg);
 
   recordEnergyBudget(model, dissipated);  // budget at t^n
+  clock.lap(Phase::Energy);
   integratePositions(model, dt);          // x^{n+1}
+  clock.lap(Phase::Integrate);
   model.time += dt;
   model.dt = dt;
   ++model.step;
+  countStepWork(model);
 }
 
 }  // namespace fesph

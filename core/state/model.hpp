@@ -5,6 +5,7 @@
 
 #include "core/common/types.hpp"
 #include "core/material/material.hpp"
+#include "core/solver/phase_timers.hpp"
 #include "core/sph/sph_workspace.hpp"
 #include "core/state/surfaces.hpp"
 
@@ -190,6 +191,7 @@ struct Model {
   double dt = 0;         ///< last time step, s
   long step = 0;
   std::string dt_limiter;  ///< what set the last time step
+  PhaseTimes timing;       ///< wall time by phase and work done, for the figures of merit
 };
 
 }  // namespace fesph

@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: MIT
+// Parallel sums with the same bits for any number of threads. An OpenMP reduction adds
+// per-thread partials whose split depends on the thread count; here the split is fixed.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace fesph {
+
+/// N sums over i in [0, n): term(i, s) adds the terms of index i into s[0..N). Blocks of a
+/// fixed size are summed in parallel, each in index order, then the block sums in block order.
+template <std::size_t N, class Term>
+std::array<double, N> orderedSums(std::size_t n, Term&& term) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::array<double, N>> partial(blocks);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+  for (std::size_t b = 0; b < blocks; ++b) {
+    std::array<double, N> s{};
+    const std::size_t end = std::min(n, (b + 1) * kBlock);
+    for (std::size_t i = b * kBlock; i < end; ++i) term(i, s);
+    partial[b] = s;
+  }
+  std::array<double, N> total{};
+  for (const std::array<double, N>& s : partial)
+    for (std::size_t k = 0; k < N; ++k) total[k] += s[k];
+  return total;
+}
+
+}  // namespace fesph
