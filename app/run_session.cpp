@@ -4,6 +4,7 @@
 #include "core/analysis/fragments.hpp"
 #include "core/analysis/plate_crossings.hpp"
 #include "core/common/error.hpp"
+#include "core/solver/figures_of_merit.hpp"
 #include "core/solver/step.hpp"
 #include "core/state/model_build.hpp"
 #include "render/series_writer.hpp"
@@ -128,6 +129,7 @@ void RunSession::printSummary() const {
   if (element_steps_ > 0)
     std::printf("  cost             %.1f ns per element-step (%d threads)\n",
                 1e9 * wall_solver_ / element_steps_, omp_get_max_threads());
+  printFiguresOfMerit(model);  // cost by phase, memory
   std::printf("  energy (J)       kinetic %.6g  internal %.6g  contact %.6g  eroded %.6g\n",
               en.kinetic, en.internal, en.contact, en.eroded);
   const ConversionStats& cs = model.conversion;
