@@ -46,11 +46,16 @@ struct OutputSpec {
   double interval = 0;               ///< s between field outputs
   std::vector<std::string> fields;   ///< empty: all
   long history_every = 10;           ///< steps between history rows
+  double checkpoint_interval = 0;    ///< s of simulated time between checkpoints; 0: none
+  long checkpoints_kept = 2;         ///< the newest checkpoints kept in the run folder
 };
 
 struct Scene {
   std::string path;    ///< the scene file
   std::string text;    ///< its text after --set overrides, for the run's metadata
+  std::string source;  ///< the text as read, before the overrides
+  std::vector<std::string> overrides;  ///< the --set overrides applied, in order
+  std::string material_library;  ///< path of the material library it was read with
   std::string title;
   std::string resolution = "default";  ///< the [resolutions] preset applied
   SolverControls controls;
@@ -71,6 +76,11 @@ struct Scene {
 /// (scenes/materials.toml found by walking up from the scene's folder).
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {},
                 const std::string& material_library = "");
+
+/// loadScene of a scene text; `path` names it in messages and resolves relative paths.
+Scene loadSceneText(const std::string& text, const std::string& path,
+                    const std::vector<std::string>& overrides = {},
+                    const std::string& material_library = "");
 
 /// Mesh every body and assemble the model. Writes mesh figures to `log` when given.
 Model buildModel(const Scene& scene, std::ostream* log = nullptr);

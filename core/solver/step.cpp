@@ -13,6 +13,8 @@
 #include "core/sph/sph_forces.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -42,22 +44,56 @@ KineticSums kineticSums(const Model& model) {
   return {n[0] + p[0], Vec3(n[1] + p[1], n[2] + p[2], n[3] + p[3])};
 }
 
+std::string seconds(double t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g s", t);
+  return buf;
+}
+
+const char* nonFiniteQuantity(const Vec3& x, const Vec3& v, const Vec3& f) {
+  return !x.allFinite() ? "position" : !v.allFinite() ? "velocity" : !f.allFinite() ? "force" : nullptr;
+}
+
+// Name the first node or particle whose state is not finite, the element it belongs to and
+// the body, so that the user can find it in the last output.
 [[noreturn]] void reportNonFinite(const Model& model) {
+  const std::string at = " at t = " + seconds(model.time);
   const Nodes& nd = model.nodes;
   for (std::size_t a = 0; a < nd.size(); ++a) {
-    if (nd.m[a] > 0 && !(nd.v[a].allFinite() && nd.x[a].allFinite() && nd.f[a].allFinite()))
-      throw RunError("non-finite velocity or force at node " + std::to_string(a) + " of body '" +
-                     model.bodies[nd.body[a]].name + "' at t = " + std::to_string(model.time) +
-                     " s");
+    const char* what = nd.m[a] > 0 ? nonFiniteQuantity(nd.x[a], nd.v[a], nd.f[a]) : nullptr;
+    if (!what) continue;
+    std::string elem;
+    if (model.node_corner_offset.size() > a + 1 &&
+        model.node_corner_offset[a] < model.node_corner_offset[a + 1])
+      elem = " (element " + std::to_string(model.node_corners[model.node_corner_offset[a]] / 4) + ")";
+    throw RunError(std::string("non-finite ") + what + " at node " + std::to_string(a) + elem +
+                   " of body '" + model.bodies[nd.body[a]].name + "'" + at +
+                   ": the solution has blown up (too large a time step, a material or contact "
+                   "instability, or non-physical input)");
   }
   const Particles& pa = model.particles;
   for (std::size_t i = 0; i < pa.size(); ++i) {
-    if (!(pa.v[i].allFinite() && pa.x[i].allFinite() && pa.f[i].allFinite()))
-      throw RunError("non-finite velocity or force at particle " + std::to_string(i) +
-                     " of body '" + model.bodies[pa.body[i]].name + "' at t = " +
-                     std::to_string(model.time) + " s");
+    const char* what = nonFiniteQuantity(pa.x[i], pa.v[i], pa.f[i]);
+    if (!what) continue;
+    const std::string from =
+        pa.parent[i] >= 0 ? " (from element " + std::to_string(pa.parent[i]) + ")" : "";
+    throw RunError(std::string("non-finite ") + what + " at particle " + std::to_string(i) +
+                   from + " of body '" + model.bodies[pa.body[i]].name + "'" + at +
+                   ": the solution has blown up");
   }
-  throw RunError("non-finite kinetic energy at t = " + std::to_string(model.time) + " s");
+  throw RunError("non-finite kinetic energy" + at + " (velocities too large to square)");
+}
+
+// "element 12" -> "element 12 of body 'plate'"; other limiters unchanged.
+std::string describeLimiter(const Model& model, const std::string& limiter) {
+  const auto space = limiter.find(' ');
+  if (space == std::string::npos) return limiter;
+  const std::string kind = limiter.substr(0, space);
+  const std::size_t k = std::strtoul(limiter.c_str() + space + 1, nullptr, 10);
+  int body = -1;
+  if (kind == "element" && k < model.elems.size()) body = model.elems.body[k];
+  if (kind == "particle" && k < model.particles.size()) body = model.particles.body[k];
+  return body < 0 ? limiter : limiter + " of body '" + model.bodies[body].name + "'";
 }
 
 /// Element-steps and particle-steps of this step, for the figures of merit.
@@ -100,9 +136,10 @@ double stableTimeStep(Model& model, double t_stop) {
     model.dt_limiter = "growth cap";
   }
   if (!(dt >= model.controls.dt_min))
-    throw RunError("time step " + std::to_string(dt) + " s below its floor " +
-                   std::to_string(model.controls.dt_min) + " s at t = " +
-                   std::to_string(model.time) + " s (limited by " + model.dt_limiter + ")");
+    throw RunError("time step " + seconds(dt) + " below its floor [simulation].dt_min = " +
+                   seconds(model.controls.dt_min) + " at t = " + seconds(model.time) +
+                   ", limited by " + describeLimiter(model, limiter) +
+                   ": its stable step collapsed (distorted, compressed or very fast)");
   // Land exactly on t_stop without leaving a sliver of a step before it.
   const double remaining = t_stop - model.time;
   if (remaining <= dt) {

@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+// Meshing the bodies of a checked scene and assembling its Model (the reader is scene.cpp).
+#include "core/scene/scene.hpp"
+
+#include "core/common/error.hpp"
+#include "core/sph/particle_body.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+
+namespace fesph {
+
+namespace {
+
+TetMesh meshBody(const SceneBody& b) {
+  if (const auto* p = std::get_if<PlateSpec>(&b.shape)) return meshPlate(*p);
+  if (const auto* p = std::get_if<ProjectileSpec>(&b.shape)) return meshProjectile(*p);
+  const auto& m = std::get<MshShape>(b.shape);
+  return readMsh(m.path, m.scale);
+}
+
+// Nodes on the lateral faces of a plate, found in its local frame.
+void fixPlateRim(Model& model, int body, const TetMesh& mesh, const PlateSpec& p) {
+  const double tol = 1e-6 * std::max(p.size_x, p.size_y);
+  const Body& b = model.bodies[body];
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    const Vec3& x = mesh.nodes[i];
+    const bool rim = std::abs(std::abs(x.x()) - 0.5 * p.size_x) < tol ||
+                     std::abs(x.y() - 0.5 * p.size_y) < tol ||
+                     (!p.half && std::abs(x.y() + 0.5 * p.size_y) < tol);
+    if (rim) model.nodes.fix[b.node_begin + i] = 0b111;
+  }
+}
+
+}  // namespace
+
+Model buildModel(const Scene& sc, std::ostream* log) {
+  Model model;
+  model.materials = sc.materials;
+  model.controls = sc.controls;
+  model.sph.controls = sc.sph;
+  model.walls = sc.walls;
+  std::vector<TetMesh> meshes;
+  for (const SceneBody& b : sc.bodies) {
+    TetMesh mesh = meshBody(b);
+    const int mat = static_cast<int>(
+        std::find(sc.material_ids.begin(), sc.material_ids.end(), b.material) -
+        sc.material_ids.begin());
+    if (log) {
+      const MeshQuality q = meshQuality(mesh);
+      *log << "  body '" << b.name << "': " << q.nodes << " nodes, " << q.elements
+           << " tets, shape quality min " << q.min_quality << " mean " << q.mean_quality
+           << ", min dihedral " << q.min_dihedral_deg << " deg\n";
+    }
+    if (b.discretisation == Discretisation::Sph)  // one particle per tet, from the start
+      addParticleBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile,
+                      model.sph.controls.kappa);
+    else
+      addBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile);
+    meshes.push_back(std::move(mesh));
+  }
+  for (const FixedBoundary& f : sc.fixed) {
+    const int body = static_cast<int>(
+        std::find_if(sc.bodies.begin(), sc.bodies.end(),
+                     [&](const SceneBody& b) { return b.name == f.body; }) -
+        sc.bodies.begin());
+    const Body& b = model.bodies[body];
+    if (f.where == "rim") {
+      const auto* p = std::get_if<PlateSpec>(&sc.bodies[body].shape);
+      if (p && sc.bodies[body].discretisation == Discretisation::Fem)
+        fixPlateRim(model, body, meshes[body], *p);
+      else
+        throw InputError(sc.path, 0, 0, "'where = \"rim\"' needs a plate of elements: " + f.body);
+    } else {
+      for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+        const Vec3& x = model.nodes.x[a];
+        if ((x - f.box_min).minCoeff() >= 0 && (f.box_max - x).minCoeff() >= 0)
+          model.nodes.fix[a] = 0b111;
+      }
+    }
+  }
+  for (const SymmetryPlane& s : sc.symmetry) {
+    // Tolerance relative to the model's size: nodes meshed on the plane sit on it to round-off.
+    double extent = 0;
+    for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
+    const double tol = 1e-9 * std::max(extent, 1e-3);
+    for (std::size_t a = 0; a < model.nodes.size(); ++a)
+      if (std::abs(model.nodes.x[a][s.axis] - s.position) < tol)
+        model.nodes.fix[a] |= static_cast<std::uint8_t>(1u << s.axis);
+  }
+  finaliseModel(model);
+  return model;
+}
+
+}  // namespace fesph
