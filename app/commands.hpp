@@ -15,6 +15,7 @@ struct RunInfo;
 
 struct RunOptions {
   std::string scene;
+  std::string restart;                ///< checkpoint to continue from (instead of a scene)
   std::string out;                    ///< overrides [output].folder
   double end_time = 0;                ///< overrides [simulation].end_time when > 0
   int threads = 0;                    ///< OpenMP threads; 0: the default

@@ -2,6 +2,7 @@
 // fesph: projectiles perforating spaced multi-layer plates with adaptive FE-SPH coupling.
 // Sub-commands:
 //   run SCENE      mesh and run a scene, writing a ParaView series, histories and images
+//   run --restart CHECKPOINT   continue a run from one of its checkpoints
 //   render RUN_DIR draw the report images of a finished run
 //   shell [SCENE | RUN_DIR]   interactive workbench (also reads a script: fesph shell < steps.txt)
 //   compare RUN_DIR --plate N --image PHOTO --mm-per-px S   holes of a photograph vs the run
@@ -22,7 +23,16 @@ int main(int argc, char** argv) {
 
   fesph::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Mesh and run a scene to its end time");
-  run_cmd->add_option("scene", run.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  CLI::Option* scene_opt =
+      run_cmd->add_option("scene", run.scene, "Scene file (TOML)")->check(CLI::ExistingFile);
+  run_cmd->add_option("--restart", run.restart,
+                      "Continue from a checkpoint (FOLDER/checkpoint_STEP.h5) instead of "
+                      "starting a scene; output goes on in the checkpoint's folder")
+      ->excludes(scene_opt);
+  run_cmd->callback([&] {
+    if (run.scene.empty() && run.restart.empty())
+      throw CLI::RequiredError("a scene file or --restart CHECKPOINT");
+  });
   run_cmd->add_option("--out", run.out, "Output folder (default: the scene's [output].folder)");
   run_cmd->add_option("--end-time", run.end_time, "End time in s (overrides the scene)")
       ->check(CLI::PositiveNumber);

@@ -4,12 +4,14 @@
 #include "app/commands.hpp"
 #include "app/progress.hpp"
 #include "app/run_session.hpp"
+#include "app/stop_signal.hpp"
 
 #include "core/common/error.hpp"
 
 #include <omp.h>
 
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 
 namespace fesph {
@@ -24,7 +26,10 @@ int runCommand(const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   RunSession session;
   try {
-    session.open(opt.scene, overrides, opt.out, opt.materials, &std::cout);
+    if (!opt.restart.empty())
+      session.restart(opt.restart, overrides, opt.out, &std::cout);
+    else
+      session.open(opt.scene, overrides, opt.out, opt.materials, &std::cout);
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
@@ -40,17 +45,31 @@ int runCommand(const RunOptions& opt) {
   Progress progress(session.endTime(), !opt.quiet);
   session.onStep([&](const Model& m) { progress.update(m.time, m.step, m.dt); });
   int code = 0;
-  if (session.advance(session.endTime()) == StopReason::Failed) {
+  const StopReason why = session.advance(session.endTime(), -1, installStopSignals());
+  if (why == StopReason::Failed) {
     progress.finish();
     std::fprintf(stderr,
                  "error: run stopped at t = %.6g s, step %ld: %s\n"
                  "Output written so far is valid and kept in %s\n",
                  model.time, model.step, session.failure().c_str(), folder.c_str());
     code = 1;
+  } else if (why == StopReason::Interrupted) {
+    progress.finish();
+    code = 1;
+    try {
+      const std::string path = session.checkpoint();
+      std::fprintf(stderr,
+                   "interrupted (%s) at t = %.6g s, step %ld: checkpoint written to %s\n"
+                   "Continue with: fesph run --restart %s\n",
+                   strsignal(stopSignal()), model.time, model.step, path.c_str(), path.c_str());
+    } catch (const RunError& e) {
+      std::fprintf(stderr, "interrupted at t = %.6g s, step %ld; no checkpoint: %s\n",
+                   model.time, model.step, e.what());
+    }
   }
   progress.finish();
   session.printSummary();
-  if (!opt.no_images) {
+  if (!opt.no_images && why != StopReason::Interrupted) {
     // A failed image must not fail a finished run: warn and keep the exit code.
     std::printf("Images\n");
     try {

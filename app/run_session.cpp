@@ -11,6 +11,7 @@
 
 #include <omp.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -47,7 +48,41 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
          << ")\nMeshing " << scene_.bodies.size() << " bodies" << std::endl;
   }
   model_ = buildModel(scene_, log);
+  crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
 
+  openWriters(false, RunProgress{});
+  next_output_ = scene_.output.interval;
+  next_checkpoint_ = scene_.output.checkpoint_interval;
+}
+
+void RunSession::restart(const std::string& checkpoint, const std::vector<std::string>& overrides,
+                         const std::string& out_folder, std::ostream* log) {
+  opened_ = std::chrono::steady_clock::now();
+  RunProgress saved;
+  model_ = readCheckpoint(checkpoint, saved);
+  std::vector<std::string> all = saved.overrides;
+  all.insert(all.end(), overrides.begin(), overrides.end());
+  scene_ = loadSceneText(saved.scene_text, saved.scene_path, all, saved.material_library);
+  // The solver controls are part of the saved state; only the end time may move on.
+  model_.controls.end_time = scene_.controls.end_time;
+  const fs::path parent = fs::path(checkpoint).parent_path();
+  scene_.output.folder = !out_folder.empty() ? out_folder
+                         : parent.empty()    ? std::string(".")
+                                             : parent.string();
+  if (log) {
+    *log << "fesph " << FESPH_VERSION << ": restart of scene " << saved.scene_path << " ("
+         << scene_.title << ") from " << checkpoint << " at t = " << model_.time << " s, step "
+         << model_.step << std::endl;
+  }
+  crossings_ = std::make_unique<PlateCrossings>(saved.crossings, saved.crossings_projectile);
+  openWriters(true, saved);
+  started_ = true;
+  output_index_ = saved.output_index;
+  next_output_ = saved.next_output;
+  next_checkpoint_ = saved.next_checkpoint;
+}
+
+void RunSession::openWriters(bool resume, const RunProgress& saved) {
   const std::string& dir = folder();
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -58,13 +93,51 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
   try {
     SeriesOptions options;
     options.fields = scene_.output.fields;
+    options.append = resume;
+    options.keep = static_cast<std::size_t>(saved.series_outputs);
     series_ = std::make_unique<SeriesWriter>(dir, options);
   } catch (const std::invalid_argument& e) {
-    throw InputError(scene_path, 0, 0, std::string("[output] fields: ") + e.what());
+    throw InputError(scene_.path, 0, 0, std::string("[output] fields: ") + e.what());
   }
-  history_ = std::make_unique<HistoryCsv>(dir + "/history.csv", model_);
-  crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
-  next_output_ = scene_.output.interval;
+  // A restart into a new folder starts its histories there.
+  const std::string csv = dir + "/history.csv", h5 = dir + "/run.h5";
+  const auto rows = static_cast<std::size_t>(saved.history_rows);
+  history_ = resume && fs::exists(csv) ? std::make_unique<HistoryCsv>(csv, rows)
+                                       : std::make_unique<HistoryCsv>(csv, model_);
+  history_h5_ = resume && fs::exists(h5) ? std::make_unique<HistoryH5>(h5, model_, rows)
+                                         : std::make_unique<HistoryH5>(h5, model_, scene_.text);
+}
+
+RunProgress RunSession::progress() const {
+  RunProgress p;
+  p.scene_text = scene_.source;
+  p.overrides = scene_.overrides;
+  p.scene_path = fs::absolute(scene_.path).string();
+  p.material_library = fs::absolute(scene_.material_library).string();
+  p.series_outputs = static_cast<long>(series_->outputCount());
+  p.output_index = output_index_;
+  p.next_output = next_output_;
+  p.next_checkpoint = next_checkpoint_;
+  p.history_rows = static_cast<long>(history_h5_->rows());
+  p.crossings = crossings_->plates();
+  p.crossings_projectile = crossings_->projectile();
+  return p;
+}
+
+void RunSession::checkpoint(const std::string& path) const {
+  writeCheckpoint(path, model_, progress());
+}
+
+std::string RunSession::checkpoint() {
+  const std::string path = checkpointPath(folder(), model_.step);
+  checkpoint(path);
+  pruneCheckpoints(folder(), static_cast<std::size_t>(scene_.output.checkpoints_kept));
+  return path;
+}
+
+void RunSession::recordHistory() {
+  history_->record(model_);
+  history_h5_->record(model_);
 }
 
 bool RunSession::complete() const { return reached(model_.time, endTime()); }
@@ -97,7 +170,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
           std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       element_steps_ += static_cast<double>(liveElements(model_));
       crossings_->update(model_);
-      if (model_.step % scene_.output.history_every == 1) history_->record(model_);
+      if (model_.step % scene_.output.history_every == 1) recordHistory();
       if (reached(model_.time, t_stop)) {
         if (t_stop == next_output_ || complete()) {
           writeOutput();
@@ -105,12 +178,21 @@ StopReason RunSession::advance(double until_time, long max_steps,
         }
         next_output_ = interval * static_cast<double>(output_index_ + 1);
       }
-      if (complete()) history_->record(model_);
+      if (complete()) recordHistory();
+      const double every = scene_.output.checkpoint_interval;
+      if (every > 0 && (reached(model_.time, next_checkpoint_) || complete())) {
+        next_checkpoint_ = every * (std::floor(model_.time / every * (1 + 1e-12)) + 1);
+        checkpoint();
+      }
       if (on_step_) on_step_(model_);
     }
   } catch (const RunError& e) {
     failure_ = e.what();
-    history_->record(model_);
+    try {
+      recordHistory();
+    } catch (const RunError& h) {
+      failure_ += std::string(" (and the last history row was not written: ") + h.what() + ")";
+    }
     crossings_->writeCsv(folder() + "/residual_velocities.csv");
     return StopReason::Failed;
   }

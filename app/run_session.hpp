@@ -4,7 +4,9 @@
 // `fesph run` drives it to the end time; an interactive shell can drive it step by step.
 #pragma once
 
+#include "core/io/checkpoint.hpp"
 #include "core/io/history_csv.hpp"
+#include "core/io/history_h5.hpp"
 #include "core/scene/scene.hpp"
 #include "core/state/model.hpp"
 
@@ -44,11 +46,26 @@ class RunSession {
             const std::string& out_folder, const std::string& material_library = "",
             std::ostream* log = nullptr);
 
+  /// Continue the run saved in `checkpoint`: the scene is the one stored in it (with further
+  /// `overrides`, e.g. a later end time), the state is the checkpoint's, and the series,
+  /// history.csv and run.h5 of the run folder (empty `out_folder`: the checkpoint's folder)
+  /// are cut back to where they stood at the checkpoint and continued.
+  /// Throws RunError (unreadable checkpoint, outputs missing) or InputError (overrides).
+  void restart(const std::string& checkpoint, const std::vector<std::string>& overrides,
+               const std::string& out_folder, std::ostream* log = nullptr);
+
+  /// Write a checkpoint of the state after the last step to `path`. Throws RunError.
+  void checkpoint(const std::string& path) const;
+  /// Write FOLDER/checkpoint_<step>.h5, keep the scene's [output].checkpoints_kept newest,
+  /// and return its path. Throws RunError.
+  std::string checkpoint();
+
   /// Step until the model time reaches `until_time` (the step that crosses it is not cut
   /// short, so how a run is split into advances never changes its results), `max_steps`
   /// steps are done (< 0: no limit), the end time is reached or `*stop` becomes true.
   /// The first call writes the initial output. Fields are written at the scene's interval,
   /// history rows every [output].history_every steps and once at the end time.
+  /// Checkpoints are written at [output].checkpoint_interval and at the end time.
   /// A RunError stops the run: the history gets its last row and Failed is returned.
   StopReason advance(double until_time, long max_steps = -1,
                      const std::atomic<bool>* stop = nullptr);
@@ -74,17 +91,22 @@ class RunSession {
 
  private:
   void writeOutput();
+  void recordHistory();
+  void openWriters(bool resume, const RunProgress& progress);
+  RunProgress progress() const;
 
   Scene scene_;
   Model model_;
   std::unique_ptr<SeriesWriter> series_;
   std::unique_ptr<HistoryCsv> history_;
   std::unique_ptr<PlateCrossings> crossings_;
+  std::unique_ptr<HistoryH5> history_h5_;
   std::function<void(const Model&)> on_step_;
   std::string failure_;
   bool started_ = false;     ///< the initial output is written
   long output_index_ = 0;    ///< field outputs written after the initial one
   double next_output_ = 0;   ///< time of the next field output, s
+  double next_checkpoint_ = 0;  ///< time of the next checkpoint, s
   double wall_solver_ = 0;   ///< s spent in step()
   double element_steps_ = 0; ///< live elements summed over the steps
   std::chrono::steady_clock::time_point opened_;

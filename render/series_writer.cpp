@@ -150,10 +150,15 @@ std::string indexedName(const char* stem, std::size_t index, const char* extensi
 
 // ---- PvdCollection -----------------------------------------------------------------------
 
-PvdCollection::PvdCollection(fs::path pvd_path, bool append) : path_(std::move(pvd_path)) {
+PvdCollection::PvdCollection(fs::path pvd_path, bool append, std::size_t keep)
+    : path_(std::move(pvd_path)) {
   if (!fs::exists(path_)) return;
   if (append) {
     entries_ = readPvd(path_);
+    if (entries_.size() > keep) {
+      entries_.resize(keep);
+      save();
+    }
     return;
   }
   // A fresh series must not leave steps of the previous run behind for ParaView to show.
@@ -234,8 +239,8 @@ const std::vector<std::string>& SeriesWriter::elementFields() { return kElementF
 SeriesWriter::SeriesWriter(fs::path folder, SeriesOptions options)
     : folder_(createdFolder(std::move(folder))),
       fields_(checkedFields(std::move(options.fields))),
-      elements_(folder_ / "elements.pvd", options.append),
-      particles_(folder_ / "particles.pvd", options.append) {}
+      elements_(folder_ / "elements.pvd", options.append, options.keep),
+      particles_(folder_ / "particles.pvd", options.append, options.keep) {}
 
 bool SeriesWriter::wants(const std::string& field) const {
   return fields_.empty() || std::find(fields_.begin(), fields_.end(), field) != fields_.end();

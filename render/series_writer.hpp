@@ -23,7 +23,10 @@ class PvdCollection {
 
   /// `append`: read the entries of an existing `pvd_path` back (none if it does not exist).
   /// Otherwise start empty: an existing .pvd and the data files it lists are deleted.
-  PvdCollection(std::filesystem::path pvd_path, bool append);
+  /// With `append`, entries after the first `keep` are dropped (a restart continues from its
+  /// checkpoint; later files get overwritten as the run reaches them again).
+  PvdCollection(std::filesystem::path pvd_path, bool append,
+                std::size_t keep = static_cast<std::size_t>(-1));
 
   /// Record `file` (a plain file name in the .pvd's folder) at `time` and rewrite the .pvd.
   void add(double time, const std::string& file);
@@ -43,6 +46,8 @@ struct SeriesOptions {
   std::vector<std::string> fields;
   /// Continue the series found in the folder (restarts) instead of starting a fresh one.
   bool append = false;
+  /// With `append`: keep only the first `keep` steps of the series found.
+  std::size_t keep = static_cast<std::size_t>(-1);
 };
 
 /// Writes elements_NNNNNN.vtu + elements.pvd and particles_NNNNNN.vtp + particles.pvd (one

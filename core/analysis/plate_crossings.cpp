@@ -74,6 +74,11 @@ PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
   for (PlateCrossing& p : plates_) p.measure_depth = p.thickness + gap;
 }
 
+PlateCrossings::PlateCrossings(std::vector<PlateCrossing> plates, int projectile)
+    : plates_(std::move(plates)), projectile_(projectile) {
+  while (next_ < plates_.size() && plates_[next_].t_measured >= 0) ++next_;  // measured in order
+}
+
 void PlateCrossings::update(const Model& model) {
   if (projectile_ < 0 || next_ >= plates_.size()) return;
   const Body& pb = model.bodies[projectile_];

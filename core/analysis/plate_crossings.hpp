@@ -40,6 +40,8 @@ class PlateCrossings {
   /// The plates of `scene` (bodies with a plate shape) in the order the projectile meets them
   /// (along its initial velocity). No projectile or no plate: nothing is tracked.
   PlateCrossings(const Scene& scene, const Model& model);
+  /// Continue a tracking saved with a checkpoint: `plates()` and `projectile()` as they were.
+  PlateCrossings(std::vector<PlateCrossing> plates, int projectile);
   /// Look at the model after a step; cheap until the projectile nears a measuring plane.
   void update(const Model& model);
   const std::vector<PlateCrossing>& plates() const { return plates_; }

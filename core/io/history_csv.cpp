@@ -4,7 +4,9 @@
 #include "core/common/error.hpp"
 #include "core/state/model_build.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 namespace fesph {
 
@@ -18,6 +20,31 @@ HistoryCsv::HistoryCsv(const std::string& path, const Model& model)
     out_ << ',' << b.name << "_vx," << b.name << "_vy," << b.name << "_vz";
   out_ << '\n';
   out_.flush();
+}
+
+HistoryCsv::HistoryCsv(const std::string& path, std::size_t rows) : path_(path) {
+  std::ifstream in(path);
+  if (!in) throw RunError("cannot read history file " + path + " to continue it");
+  std::string kept, line;
+  std::size_t lines = 0;
+  while (lines < rows + 1 && std::getline(in, line)) {
+    kept += line + '\n';
+    ++lines;
+  }
+  in.close();
+  if (lines < rows + 1)
+    throw RunError(path + ": " + std::to_string(lines ? lines - 1 : 0) + " rows, the checkpoint "
+                   "expects " + std::to_string(rows));
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << kept;
+    if (!out) throw RunError("cannot write history file " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw RunError("cannot rename " + tmp + ": " + std::strerror(errno));
+  out_.open(path, std::ios::app);
+  if (!out_) throw RunError("cannot write history file " + path);
 }
 
 void HistoryCsv::record(const Model& model) {

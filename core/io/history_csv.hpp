@@ -14,6 +14,9 @@ class HistoryCsv {
  public:
   /// Create (or truncate) `path` and write the header for the model's bodies.
   HistoryCsv(const std::string& path, const Model& model);
+  /// Continue the file of a restarted run: keep its header and first `rows` rows, drop the
+  /// rest (written after the checkpoint), and append from there. Throws RunError.
+  HistoryCsv(const std::string& path, std::size_t rows);
   /// Append the budget at model.energy.time.
   void record(const Model& model);
   const std::string& path() const { return path_; }

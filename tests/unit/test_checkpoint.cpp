@@ -1,0 +1,352 @@
+// SPDX-License-Identifier: MIT
+// Checkpoints and restarts: a run split by a checkpoint gives the same bits as one run (in the
+// library and through `fesph run --restart`, with its series and histories continued), SIGINT
+// leaves a checkpoint to continue from, a failing run keeps valid files, and bad checkpoint
+// files give clear errors.
+#include "core/common/error.hpp"
+#include "core/io/checkpoint.hpp"
+#include "core/io/hdf5.hpp"
+#include "core/scene/scene.hpp"
+#include "core/solver/step.hpp"
+#include "tests/support/temp_folder.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+using namespace fesph;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = std::string(FESPH_TEST_DATA_DIR) + "/restart_impact.toml";
+const std::string kLibrary = std::string(FESPH_SCENES_DIR) + "/materials.toml";
+
+template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+bool sameTies(const Particles& a, const Particles& b) {
+  if (a.tie.size() != b.tie.size()) return false;
+  for (std::size_t i = 0; i < a.tie.size(); ++i)
+    if (a.tie[i].face != b.tie[i].face ||
+        std::memcmp(a.tie[i].bary.data(), b.tie[i].bary.data(), 3 * sizeof(double)) != 0)
+      return false;
+  return true;
+}
+
+// Every state array step() reads and writes, bit for bit.
+void requireSameState(const Model& a, const Model& b) {
+  REQUIRE(a.step == b.step);
+  REQUIRE(sameBits(a.time, b.time));
+  REQUIRE(sameBits(a.dt, b.dt));
+  REQUIRE(sameBits(a.nodes.x, b.nodes.x));
+  REQUIRE(sameBits(a.nodes.v, b.nodes.v));
+  REQUIRE(sameBits(a.nodes.f, b.nodes.f));
+  REQUIRE(sameBits(a.nodes.m, b.nodes.m));
+  REQUIRE(sameBits(a.elems.V, b.elems.V));
+  REQUIRE(sameBits(a.elems.rho, b.elems.rho));
+  REQUIRE(sameBits(a.elems.q, b.elems.q));
+  REQUIRE(sameBits(a.elems.dt, b.elems.dt));
+  REQUIRE(sameBits(a.elems.state, b.elems.state));
+  REQUIRE(sameBits(a.elems.status, b.elems.status));
+  REQUIRE(sameBits(a.particles.x, b.particles.x));
+  REQUIRE(sameBits(a.particles.v, b.particles.v));
+  REQUIRE(sameBits(a.particles.f, b.particles.f));
+  REQUIRE(sameBits(a.particles.V, b.particles.V));
+  REQUIRE(sameBits(a.particles.h, b.particles.h));
+  REQUIRE(sameBits(a.particles.state, b.particles.state));
+  REQUIRE(sameBits(a.particles.parent, b.particles.parent));
+  REQUIRE(sameTies(a.particles, b.particles));
+  REQUIRE(sameBits(a.surfaces.exterior, b.surfaces.exterior));
+  REQUIRE(sameBits(a.sph.neighbours.index, b.sph.neighbours.index));
+  REQUIRE(a.conversion.converted == b.conversion.converted);
+  REQUIRE(a.conversion.by_damage == b.conversion.by_damage);
+  const EnergyBudget& ea = a.energy;
+  const EnergyBudget& eb = b.energy;
+  for (auto [x, y] : {std::pair{ea.kinetic, eb.kinetic}, {ea.internal, eb.internal},
+                      {ea.contact, eb.contact}, {ea.conversion, eb.conversion},
+                      {ea.plastic_work, eb.plastic_work}, {ea.initial, eb.initial}})
+    REQUIRE(sameBits(x, y));
+}
+
+void stepTo(Model& model, long steps) {
+  while (model.step < steps) step(model, model.controls.end_time);
+}
+
+int activeTies(const Model& m) {
+  int n = 0;
+  for (const Tie& t : m.particles.tie) n += t.active() ? 1 : 0;
+  return n;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+int shell(const std::string& cmd) {
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string runCmd(const std::string& args, const fs::path& log) {
+  return std::string(FESPH_BINARY) + " run " + args + " --no-images --quiet > " + log.string() +
+         " 2>&1";
+}
+
+std::string sceneRun(const fs::path& out, const std::string& extra = "") {
+  return kScene + " --materials " + kLibrary + " --out " + out.string() +
+         " --set simulation.end_time=1.5e-6 --set output.checkpoint_interval=0.5e-6"
+         " --set output.checkpoints_kept=10 " + extra;
+}
+
+// The files of a run folder that must come out the same however the run was split.
+void requireSameOutputs(const fs::path& a, const fs::path& b) {
+  for (const char* f : {"history.csv", "elements.pvd", "particles.pvd"})
+    REQUIRE(slurp(a / f) == slurp(b / f));
+  int series = 0;
+  for (const auto& e : fs::directory_iterator(a)) {
+    const std::string ext = e.path().extension().string();
+    if (ext != ".vtu" && ext != ".vtp") continue;
+    INFO(e.path().filename());
+    REQUIRE(slurp(e.path()) == slurp(b / e.path().filename()));
+    ++series;
+  }
+  REQUIRE(series == 6);
+  const std::string dump = "h5dump -g /history ";
+  REQUIRE(shell(dump + (a / "run.h5").string() + " > " + (a / "h5.txt").string()) == 0);
+  REQUIRE(shell(dump + (b / "run.h5").string() + " > " + (b / "h5.txt").string()) == 0);
+  std::string ha = slurp(a / "h5.txt"), hb = slurp(b / "h5.txt");
+  ha = ha.substr(ha.find('\n'));  // the first line names the file
+  hb = hb.substr(hb.find('\n'));
+  REQUIRE(ha == hb);
+}
+
+}  // namespace
+
+TEST_CASE("a run continued from a checkpoint is bit-identical to an unbroken run",
+          "[unit][checkpoint]") {
+  // Reference: 2N steps in one go. Test: N steps, checkpoint, a fresh Model read from it,
+  // N more. The scene converts elements to tied particles in contact with the plate.
+  const long N = 90;
+  const Scene scene = loadScene(kScene, {}, kLibrary);
+  Model unbroken = buildModel(scene);
+  stepTo(unbroken, 2 * N);
+
+  Model first = buildModel(scene);
+  stepTo(first, N);
+  REQUIRE(first.conversion.converted > 0);  // the checkpoint holds particles ...
+  REQUIRE(activeTies(first) > 0);           // ... tied to element faces
+  testing::TempFolder dir("checkpoint_bits");
+  const std::string path = checkpointPath(dir.path.string(), first.step);
+  RunProgress progress;
+  progress.scene_text = scene.source;
+  writeCheckpoint(path, first, progress);
+  REQUIRE(!fs::exists(path + ".tmp"));
+
+  RunProgress read;
+  Model continued = readCheckpoint(path, read);
+  REQUIRE(read.scene_text == scene.source);
+  requireSameState(first, continued);
+  stepTo(continued, 2 * N);
+  requireSameState(unbroken, continued);
+}
+
+TEST_CASE("fesph run --restart continues the series and histories; SIGINT leaves a checkpoint",
+          "[unit][checkpoint]") {
+  testing::TempFolder dir("restart_cli");
+  const fs::path whole = dir.path / "whole", split = dir.path / "split", cut = dir.path / "cut";
+  REQUIRE(shell(runCmd(sceneRun(whole), dir.path / "whole.log")) == 0);
+  const std::vector<std::string> ckpts = listCheckpoints(whole.string());
+  REQUIRE(ckpts.size() == 3);  // at 0.5 and 1.0 us and at the end
+
+  // Split run: everything the whole run wrote (as if it had been stopped late), but only
+  // its first checkpoint; the restart must cut the outputs back to it and go on.
+  fs::copy(whole, split);
+  for (const std::string& c : listCheckpoints(split.string())) fs::remove(c);
+  const fs::path from = split / fs::path(ckpts[0]).filename();
+  fs::copy_file(ckpts[0], from);
+  REQUIRE(shell(runCmd("--restart " + from.string(), dir.path / "split.log")) == 0);
+  requireSameOutputs(whole, split);
+  REQUIRE(listCheckpoints(split.string()).size() == 3);
+
+  // Interrupted run: SIGINT once it has written a few history rows (5 steps a row).
+  const std::string cmd = "exec " + runCmd(sceneRun(cut), dir.path / "cut.log");
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int k = 0; k < 400; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const std::string csv = slurp(cut / "history.csv");
+    if (std::count(csv.begin(), csv.end(), '\n') >= 8) break;
+  }
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string log = slurp(dir.path / "cut.log");
+  INFO(log);
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 1);
+  REQUIRE(log.find("interrupted (Interrupt)") != std::string::npos);
+  const std::vector<std::string> cut_ckpts = listCheckpoints(cut.string());
+  REQUIRE(!cut_ckpts.empty());
+  RunProgress progress;
+  const Model stopped = readCheckpoint(cut_ckpts.back(), progress);
+  REQUIRE(stopped.step > 0);
+  REQUIRE(stopped.time < 1.5e-6);
+  REQUIRE(log.find("checkpoint written to " + cut_ckpts.back()) != std::string::npos);
+  REQUIRE(shell(runCmd("--restart " + cut_ckpts.back(), dir.path / "rest.log")) == 0);
+  requireSameOutputs(whole, cut);
+}
+
+TEST_CASE("a run stopped by its time step floor names the cause and keeps valid files",
+          "[unit][checkpoint]") {
+  testing::TempFolder dir("dt_floor");
+  const fs::path out = dir.path / "run";
+  // The floor is crossed near t = 2 us, after the checkpoints at 0.5, 1.0 and 1.5 us.
+  const std::string args = kScene + " --materials " + kLibrary + " --out " + out.string() +
+                           " --set simulation.dt_min=6e-9 --set output.checkpoint_interval=0.5e-6";
+  REQUIRE(shell(runCmd(args, dir.path / "log")) == 1);
+  const std::string log = slurp(dir.path / "log");
+  INFO(log);
+  REQUIRE(log.find("below its floor") != std::string::npos);
+  REQUIRE((log.find("limited by element") != std::string::npos ||
+           log.find("limited by particle") != std::string::npos));
+  REQUIRE(log.find("of body '") != std::string::npos);
+  REQUIRE(log.find("at t = ") != std::string::npos);
+
+  const std::vector<std::string> ckpts = listCheckpoints(out.string());
+  REQUIRE(ckpts.size() == 2);  // the newest two are kept
+  RunProgress progress;
+  REQUIRE(readCheckpoint(ckpts.back(), progress).step > 0);
+  // Every file the series lists is there and complete (no temporaries left).
+  for (const char* pvd : {"elements.pvd", "particles.pvd"}) {
+    const std::string text = slurp(out / pvd);
+    std::size_t at = 0, listed = 0;
+    while ((at = text.find("file=\"", at)) != std::string::npos) {
+      at += 6;
+      const std::string file = text.substr(at, text.find('"', at) - at);
+      REQUIRE(fs::file_size(out / file) > 0);
+      ++listed;
+    }
+    REQUIRE(listed >= 2);
+  }
+  for (const auto& e : fs::directory_iterator(out))
+    REQUIRE(e.path().extension() != ".tmp");
+  REQUIRE(shell("h5dump -H " + (out / "run.h5").string() + " > /dev/null") == 0);
+}
+
+TEST_CASE("a non-finite state stops the run naming the node, element, body and time",
+          "[unit][checkpoint]") {
+  const Scene scene = loadScene(kScene, {}, kLibrary);
+  Model model = buildModel(scene);
+  stepTo(model, 3);
+  // A node of the projectile, free in z (no wall, no symmetry plane acts on it).
+  const int node = model.elems.conn[model.bodies[0].elem_begin][0];
+  model.nodes.v[node].z() = std::nan("");
+  try {
+    step(model, model.controls.end_time);
+    FAIL("no error");
+  } catch (const RunError& e) {
+    const std::string what = e.what();
+    INFO(what);
+    // The first node in index order: this one or one that shares an element with it.
+    const std::size_t at = what.find("non-finite velocity at node ");
+    REQUIRE(at != std::string::npos);
+    const int named = std::stoi(what.substr(at + 28));
+    bool neighbour = named == node;
+    for (const auto& c : model.elems.conn)
+      neighbour = neighbour || (std::count(c.begin(), c.end(), node) &&
+                                std::count(c.begin(), c.end(), named));
+    REQUIRE(neighbour);
+    REQUIRE(what.find("(element ") != std::string::npos);
+    REQUIRE(what.find("of body 'projectile'") != std::string::npos);
+    REQUIRE(what.find("at t = ") != std::string::npos);
+  }
+}
+
+TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit][checkpoint]") {
+  testing::TempFolder dir("bad_checkpoints");
+  const Scene scene = loadScene(kScene, {}, kLibrary);
+  const Model model = buildModel(scene);
+  const std::string good = (dir.path / "good.h5").string();
+  writeCheckpoint(good, model, RunProgress{});
+
+  auto error = [](const std::string& path) -> std::string {
+    try {
+      RunProgress p;
+      readCheckpoint(path, p);
+    } catch (const RunError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  SECTION("missing") {
+    const std::string what = error((dir.path / "nope.h5").string());
+    REQUIRE(what.find("nope.h5: no such file") != std::string::npos);
+    // The command line reports it as bad input, exit code 2.
+    REQUIRE(shell(runCmd("--restart " + (dir.path / "nope.h5").string(), dir.path / "log")) == 2);
+    REQUIRE(slurp(dir.path / "log").find("no such file") != std::string::npos);
+  }
+  SECTION("truncated") {
+    const std::string bytes = slurp(good);
+    for (std::size_t keep : {bytes.size() / 2, bytes.size() - 1, std::size_t{100}}) {
+      const std::string cut = (dir.path / "cut.h5").string();
+      std::ofstream(cut, std::ios::binary) << bytes.substr(0, keep);
+      const std::string what = error(cut);
+      INFO(keep << " bytes: " << what);
+      REQUIRE(what.rfind(cut + ":", 0) == 0);
+      REQUIRE((what.find("truncated") != std::string::npos ||
+               what.find("not an HDF5 file") != std::string::npos));
+    }
+  }
+  SECTION("not HDF5") {
+    const std::string text = (dir.path / "text.h5").string();
+    std::ofstream(text) << "title = \"a scene, not a checkpoint\"\n";
+    REQUIRE(error(text).find("not an HDF5 file") != std::string::npos);
+  }
+  SECTION("an HDF5 file of something else") {
+    const std::string other = (dir.path / "other.h5").string();
+    {
+      const h5::Handle f = h5::openFile(other, h5::Mode::Create);
+      h5::writeAttribute(f, "title", std::string("not ours"));
+    }
+    REQUIRE(error(other).find("not a fesph checkpoint") != std::string::npos);
+  }
+  SECTION("a checkpoint with an array missing") {
+    {
+      const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
+      REQUIRE(H5Ldelete(f.id(), "/elements/conn", H5P_DEFAULT) >= 0);
+    }
+    const std::string what = error(good);
+    INFO(what);
+    REQUIRE(what.find("/elements/conn") != std::string::npos);
+    REQUIRE(what.find("missing") != std::string::npos);
+  }
+  SECTION("a checkpoint whose arrays do not fit together") {
+    {
+      const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
+      REQUIRE(H5Ldelete(f.id(), "/nodes/m", H5P_DEFAULT) >= 0);
+      const h5::Handle nodes = h5::openGroup(f, "nodes");
+      const double one = 1.0;
+      h5::writeArray(nodes, "m", H5T_NATIVE_DOUBLE, &one, 1, 1);
+    }
+    REQUIRE(error(good).find("inconsistent checkpoint: node arrays") != std::string::npos);
+  }
+}
