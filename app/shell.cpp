@@ -39,14 +39,18 @@ struct UsageError : std::runtime_error {
 /// A command failed and has printed why.
 struct Reported {};
 
-/// Words of a line: split on blanks, "double quotes" keep blanks; # starts a comment.
+/// Words of a line: split on blanks; # starts a comment. A double quote that opens a word
+/// groups blanks into it and is dropped ("my file.toml"); one inside a word is kept, with its
+/// closing quote, so that TOML strings stay strings (resolution="quick").
 std::vector<std::string> words(const std::string& line) {
   std::vector<std::string> out;
   std::string w;
-  bool quoted = false, any = false;
+  bool quoted = false, keep = false, any = false;
   for (char c : line) {
     if (c == '"') {
+      if (!quoted) keep = any;
       quoted = !quoted;
+      if (keep) w += c;
       any = true;
     } else if (!quoted && c == '#') {
       break;
@@ -112,50 +116,55 @@ std::string tomlText(const toml::node& node) {
   return "(date/time)";
 }
 
-/// Scene values as dotted keys (arrays of tables by index, bodies.0.name) and TOML text.
-void flatten(const toml::table& t, const std::string& prefix,
+/// Scene values as dotted keys and TOML text. A table of an array is named by its `name`
+/// when it has one (bodies.plate.shape.thickness), else by its index (boundary.0.type);
+/// `by_index`: always by index.
+void flatten(const toml::table& t, const std::string& prefix, bool by_index,
              std::vector<std::pair<std::string, std::string>>& out) {
   for (const auto& [k, node] : t) {
     const std::string key = prefix + std::string(k.str());
     if (const toml::table* sub = node.as_table()) {
-      flatten(*sub, key + ".", out);
+      flatten(*sub, key + ".", by_index, out);
     } else if (const toml::array* arr = node.as_array(); arr && arr->is_array_of_tables()) {
-      for (std::size_t i = 0; i < arr->size(); ++i)
-        flatten(*(*arr)[i].as_table(), key + "." + std::to_string(i) + ".", out);
+      for (std::size_t i = 0; i < arr->size(); ++i) {
+        const toml::table& e = *(*arr)[i].as_table();
+        const std::string name = by_index ? "" : e["name"].value_or(std::string());
+        flatten(e, key + "." + (name.empty() ? std::to_string(i) : name) + ".", by_index, out);
+      }
     } else {
       out.emplace_back(key, tomlText(node));
     }
   }
 }
 
-std::vector<std::pair<std::string, std::string>> sceneValues(const std::string& text) {
+std::vector<std::pair<std::string, std::string>> sceneValues(const std::string& text,
+                                                             bool by_index = false) {
   std::vector<std::pair<std::string, std::string>> out;
   if (text.empty()) return out;
-  flatten(tomlcheck::parseText(text, "scene"), "", out);
+  flatten(tomlcheck::parseText(text, "scene"), "", by_index, out);
   std::sort(out.begin(), out.end());
   return out;
 }
 
-/// `key=value` applied to a parsed scene the way loadScene applies --set (which checked it
-/// already): dotted keys through tables (made when missing) and arrays by index.
-void applySet(toml::table& root, const std::string& kv) {
-  const std::size_t eq = kv.find('=');
-  const toml::table value = tomlcheck::parseText("v = " + kv.substr(eq + 1), "--set " + kv);
+/// `value` put at a dotted path of a parsed scene the way loadScene applies --set and
+/// resolution presets (which checked it already): through tables (made when missing) and
+/// arrays, by index or by the `name` of one of their tables (bodies.plate).
+void setPath(toml::table& root, const std::string& dotted, const toml::node& value) {
   std::vector<std::string> parts;
-  std::stringstream path(kv.substr(0, eq));
+  std::stringstream path(dotted);
   for (std::string p; std::getline(path, p, '.');) parts.push_back(p);
+  if (parts.empty()) return;
   toml::node* node = &root;
   for (std::size_t i = 0; i + 1 < parts.size() && node; ++i) {
+    const std::string& p = parts[i];
     if (toml::table* t = node->as_table()) {
-      node = t->get(parts[i]);
-      if (!node) node = &t->insert_or_assign(parts[i], toml::table{}).first->second;
+      node = t->get(p);
+      if (!node) node = &t->insert_or_assign(p, toml::table{}).first->second;
     } else if (toml::array* a = node->as_array()) {
-      // An index, or the name of one of the array's tables (bodies.plate).
-      const std::string& p = parts[i];
+      node = nullptr;
       if (!p.empty() && p.find_first_not_of("0123456789") == std::string::npos) {
         node = a->get(std::stoul(p));
       } else {
-        node = nullptr;
         for (toml::node& e : *a)
           if (e.is_table() && (*e.as_table())["name"].value_or(std::string()) == p) node = &e;
       }
@@ -163,8 +172,13 @@ void applySet(toml::table& root, const std::string& kv) {
       node = nullptr;
     }
   }
-  if (toml::table* t = node ? node->as_table() : nullptr)
-    t->insert_or_assign(parts.back(), *value.get("v"));
+  if (toml::table* t = node ? node->as_table() : nullptr) t->insert_or_assign(parts.back(), value);
+}
+
+void applySet(toml::table& root, const std::string& kv) {
+  const std::size_t eq = kv.find('=');
+  const toml::table value = tomlcheck::parseText("v = " + kv.substr(eq + 1), "--set " + kv);
+  setPath(root, kv.substr(0, eq), *value.get("v"));
 }
 
 std::string tomlKey(std::string_view k) {
@@ -194,11 +208,24 @@ void writeToml(const toml::table& t, const std::string& header, std::string& out
       }
 }
 
-/// The scene file's text with `overrides` applied, as TOML.
+/// The scene file's text with `overrides` and its resolution preset applied, as loadScene
+/// applies them (overrides, the preset, the overrides again so that they win), as TOML.
+/// `keep_presets`: keep `resolution` and [resolutions] (shown); without them the text is the
+/// same scene on its own (exported).
 std::string sceneWithChanges(const std::string& text, const std::string& name,
-                             const std::vector<std::string>& overrides) {
+                             const std::vector<std::string>& overrides, bool keep_presets = true) {
   toml::table root = tomlcheck::parseText(text, name);
   for (const std::string& o : overrides) applySet(root, o);
+  const std::string resolution = root["resolution"].value_or(std::string("default"));
+  if (const toml::table* preset = root["resolutions"][resolution].as_table()) {
+    const toml::table copy = *preset;
+    for (const auto& [k, v] : copy) setPath(root, std::string(k.str()), v);
+    for (const std::string& o : overrides) applySet(root, o);
+  }
+  if (!keep_presets) {
+    root.erase("resolution");
+    root.erase("resolutions");
+  }
   std::string out;
   writeToml(root, "", out);
   return out;
@@ -428,15 +455,18 @@ void Workbench::show(const std::vector<std::string>& a) {
     }
     return;
   }
-  const auto values = sceneValues(scene_text_);
-  if (values.empty()) throw UsageError("no scene values: nothing loaded");
+  const auto by_name = sceneValues(scene_text_), by_index = sceneValues(scene_text_, true);
+  if (by_name.empty()) throw UsageError("no scene values: nothing loaded");
   for (const std::string& key : a) {
     bool found = false;
-    for (const auto& [k, v] : values)
-      if (k == key || k.rfind(key + ".", 0) == 0) {
-        std::printf("%s = %s\n", k.c_str(), v.c_str());
-        found = true;
-      }
+    for (const auto* values : {&by_name, &by_index}) {
+      for (const auto& [k, v] : *values)
+        if (k == key || k.rfind(key + ".", 0) == 0) {
+          std::printf("%s = %s\n", k.c_str(), v.c_str());
+          found = true;
+        }
+      if (found) break;
+    }
     if (!found) throw UsageError("no scene key '" + key + "' (tab completes the keys)");
   }
 }
@@ -705,9 +735,10 @@ void Workbench::exportCmd(const std::vector<std::string>& a) {
   if (!a.empty() && a[0] == "scene" && a.size() == 2) {
     if (scene_path_.empty()) throw UsageError("no scene loaded");
     std::ofstream out(a[1], std::ios::trunc);
-    out << "# " << scene_path_ << " with the changes made in fesph shell (comments dropped)\n";
+    out << "# " << scene_path_ << " with the changes made in fesph shell and its resolution "
+        << "preset applied (comments dropped)\n";
     for (const std::string& o : overrides_) out << "#   " << o << "\n";
-    out << scene_text_;
+    out << sceneWithChanges(readText(scene_path_), scene_path_, overrides_, false);
     if (!out) throw RunError("cannot write " + a[1]);
     std::printf("%s\n", a[1].c_str());
     return;

@@ -149,6 +149,8 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
       "show simulation.end_time\n"
       "set simulation.end_time=3e-6 output.interval=1e-6\n"
       "show simulation.end_time\n"
+      "set title=\"Shell test, changed\"\n"
+      "show title bodies.plate.shape.thickness bodies.1.name\n"
       "mesh info\n"
       "step 10\n"
       "probe\n"
@@ -180,6 +182,9 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
 
   CHECK(r.out.find("simulation.end_time = 4e-06\n") != std::string::npos);
   CHECK(r.out.find("simulation.end_time = 3e-06\n") != std::string::npos);
+  CHECK(r.out.find("title = \"Shell test, changed\"\n") != std::string::npos);
+  CHECK(r.out.find("bodies.plate.shape.thickness = 0.002\n") != std::string::npos);
+  CHECK(r.out.find("bodies.1.name = \"plate\"\n") != std::string::npos);
   CHECK(lineWith(r.out, "plate ").find("target") != std::string::npos);  // mesh info
   CHECK(r.out.find("total: 1332 elements") != std::string::npos);
   CHECK(r.out.find(", step 10, dt = ") != std::string::npos);
