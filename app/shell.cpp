@@ -9,6 +9,7 @@
 #include "core/analysis/fragments.hpp"
 #include "core/common/error.hpp"
 #include "core/common/toml_check.hpp"
+#include "core/io/checkpoint.hpp"
 #include "core/state/model_build.hpp"
 #include "render/plate_images.hpp"
 #include "render/series_writer.hpp"
@@ -307,9 +308,16 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "--holes dark|bright, --face front|rear. Report, side-by-side and overlay images, CSV and\n"
        "JSON in RUN_FOLDER/shell/compare/.",
        &Workbench::compare},
-      {"checkpoint", "checkpoint [FILE]", "save the model's state to restart from it", "",
+      {"checkpoint", "checkpoint [FILE]", "save the model's full state (HDF5) to restart from it",
+       "Default file: RUN_FOLDER/checkpoint_STEP.h5 (the scene's [output].checkpoints_kept\n"
+       "newest are kept). The run also writes them at [output].checkpoint_interval.",
        &Workbench::checkpoint},
-      {"restart", "restart FILE", "go back to a saved state", "", &Workbench::restart},
+      {"restart", "restart [FILE] [KEY=VALUE ...]", "go back to a saved state and go on from it",
+       "Default FILE: the newest checkpoint of the current run folder. The scene is the one\n"
+       "saved in the checkpoint; KEY=VALUE changes may move its end time. The series and\n"
+       "histories of its run folder are cut back to the checkpoint and continued, as for\n"
+       "`fesph run --restart`.",
+       &Workbench::restart},
       {"export", "export state [DIR] | export scene FILE", "write the current state or scene",
        "state: the model now as a ParaView series of one step (elements.pvd, particles.pvd) in\n"
        "DIR (default RUN_FOLDER/export/t_TIME). scene: the scene with its changes as TOML\n"
@@ -722,13 +730,52 @@ void Workbench::probe(const std::vector<std::string>& a) {
               e.initial, 100 * e.balanceError());
 }
 
-void Workbench::checkpoint(const std::vector<std::string>&) {
-  throw UsageError("checkpoint is not available yet: the checkpoint files of issue #9 have not "
-                   "landed; `export state` writes the state for ParaView, not for a restart");
+void Workbench::checkpoint(const std::vector<std::string>& a) {
+  if (a.size() > 1) throw UsageError("usage: checkpoint [FILE]");
+  RunSession& s = session();
+  std::string path;
+  if (a.empty()) {
+    path = s.checkpoint();
+  } else {
+    path = a[0];
+    s.checkpoint(path);
+  }
+  std::printf("%s (t = %.6g s, step %ld); `restart %s` comes back to it\n", path.c_str(),
+              s.model().time, s.model().step, path.c_str());
 }
 
-void Workbench::restart(const std::vector<std::string>&) {
-  throw UsageError("restart is not available yet: the checkpoint files of issue #9 have not landed");
+void Workbench::restart(const std::vector<std::string>& a) {
+  std::string path;
+  std::vector<std::string> changes;
+  for (const std::string& w : a) {
+    if (w.find('=') != std::string::npos)
+      changes.push_back(w);
+    else if (path.empty())
+      path = w;
+    else
+      throw UsageError("usage: restart [FILE] [KEY=VALUE ...]");
+  }
+  if (path.empty()) {  // the newest checkpoint of the current run
+    const std::vector<std::string> saved = listCheckpoints(runFolder());
+    if (saved.empty()) throw UsageError("no checkpoint in " + runFolder() + "; `restart FILE`");
+    path = saved.back();
+  }
+  auto s = std::make_unique<RunSession>();
+  s->restart(path, changes, "", &std::cout);
+  // The scene is the one saved in the checkpoint, with the --set changes it lists.
+  const Scene& sc = s->scene();
+  std::vector<std::string> overrides;
+  std::istringstream lines(sc.text);
+  for (std::string l; std::getline(lines, l);)
+    if (l.rfind("# --set ", 0) == 0) overrides.push_back(l.substr(8));
+  scene_text_ = sceneWithChanges(sc.text, sc.path, overrides);
+  scene_path_ = sc.path;
+  overrides_ = std::move(overrides);
+  run_dir_.clear();
+  session_ = std::move(s);
+  std::printf("Restarted at t = %.6g s, step %ld of %.6g s; output continues in %s\n",
+              session_->model().time, session_->model().step, session_->endTime(),
+              session_->folder().c_str());
 }
 
 void Workbench::exportCmd(const std::vector<std::string>& a) {

@@ -249,6 +249,39 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(count(f.out, "a run folder holds no model to run or probe") == 2);
 }
 
+TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[app][shell]") {
+  TempFolder dir("shell_restart");
+  const fs::path out = dir.path / "run";
+  const std::string script =
+      "set simulation.end_time=3e-6\n"
+      "run to 1.2us\n"
+      "checkpoint\n"
+      "run\n"
+      "probe\n"
+      "restart\n"  // the newest checkpoint of the run: the one above
+      "show\n"
+      "run\n"
+      "probe\n"
+      "restart " + (dir.path / "none.h5").string() + "\n";
+  const Result r = shell(kScene + " --out " + out.string(), script, dir.path);
+  INFO(r.out);
+  CHECK(r.code == 1);  // the missing checkpoint
+  std::smatch m;
+  REQUIRE(std::regex_search(r.out, m, std::regex("(\\S+checkpoint_0+([0-9]+)\\.h5) \\(t = ([0-9.e+-]+) s, step ([0-9]+)\\)")));
+  const std::string step = m[4];
+  CHECK(m[2] == step);
+  CHECK(std::stod(m[3]) >= 1.2e-6);
+  CHECK(r.out.find("Restarted at t = " + std::string(m[3]) + " s, step " + step + " of 3e-06 s") != std::string::npos);
+  CHECK(r.out.find("model      t = " + std::string(m[3]) + " s of 3e-06 s, step " + step) != std::string::npos);
+  // The probe after the restarted run equals the probe after the straight one, line by line.
+  const std::size_t first = r.out.find("projectile 'projectile'\n");
+  const std::size_t second = r.out.find("projectile 'projectile'\n", first + 1);
+  REQUIRE(second != std::string::npos);
+  const auto block = [&](std::size_t at) { return r.out.substr(at, r.out.find("balance error", at) - at); };
+  CHECK(block(first) == block(second));
+  CHECK(r.out.find("none.h5") != std::string::npos);
+}
+
 TEST_CASE("fesph shell on a terminal: completion, history, Ctrl-C pauses a run", "[app][shell]") {
   TempFolder dir("shell_tty");
   Terminal t({FESPH_BINARY, "shell", kScene, "--out", (dir.path / "run").string()}, dir.path);
