@@ -33,8 +33,9 @@ namespace {
 constexpr double mm = 1e-3;
 
 /// Body 0 "bullet" (projectile), body 1 "plate": 40 x 40 x 2 mm of 1 mm cubes centred on the
-/// axis with the cube columns within 6 mm of (hx, hy) mm eroded.
-void writeRun(const fs::path& dir, double hx, double hy) {
+/// axis with the cube columns within 6 mm of (hx, hy) mm eroded; `half`: only its y >= 0 half,
+/// as a half model (symmetry plane y = 0).
+void writeRun(const fs::path& dir, double hx, double hy, bool half = false) {
   Model model;
   model.materials.push_back(testing::elasticMaterial());
   Placement behind;
@@ -42,7 +43,8 @@ void writeRun(const fs::path& dir, double hx, double hy) {
   addBody(model, "bullet", structuredBox(Vec3::Zero(), Vec3(4 * mm, 4 * mm, 4 * mm), 2, 2, 2), 0,
           behind, Vec3(0, 0, -300), true);
   addBody(model, "plate",
-          structuredBox(Vec3(-20 * mm, -20 * mm, -2 * mm), Vec3(40 * mm, 40 * mm, 2 * mm), 40, 40, 2),
+          half ? structuredBox(Vec3(-20 * mm, 0, -2 * mm), Vec3(40 * mm, 20 * mm, 2 * mm), 40, 20, 2)
+               : structuredBox(Vec3(-20 * mm, -20 * mm, -2 * mm), Vec3(40 * mm, 40 * mm, 2 * mm), 40, 40, 2),
           0, Placement{}, Vec3::Zero(), false);
   finaliseModel(model);
   const Body& plate = model.bodies[1];
@@ -53,7 +55,8 @@ void writeRun(const fs::path& dir, double hx, double hy) {
     if (std::hypot(cx - hx, cy - hy) < 6) model.elems.status[e] = ElemStatus::Eroded;
   }
   SeriesWriter(dir).write(model, 20e-6);
-  std::ofstream(dir / "scene.toml") << "[[bodies]]\nname = \"bullet\"\nprojectile = true\n"
+  std::ofstream(dir / "scene.toml") << (half ? "[simulation]\nsymmetry = \"half\"\n" : "")
+                                    << "[[bodies]]\nname = \"bullet\"\nprojectile = true\n"
                                        "[[bodies]]\nname = \"plate\"\n";
 }
 
@@ -197,4 +200,23 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     CHECK(r.code == 2);
     CHECK(r.out.find("--center must be X,Y") != std::string::npos);
   }
+}
+
+TEST_CASE("fesph compare: a half model is compared as the full plate", "[unit][render]") {
+  unsetenv("DISPLAY");
+  TempFolder dir("compare_half");
+  writeRun(dir.path / "run", 0, 0, true);
+  const Eigen::Vector2d centre(330.0, 270.0);
+  writeGrayPng(photograph(centre, 0, 0), (dir.path / "match.png").string());
+  const Result r = runFesph("compare " + (dir.path / "run").string() +
+                            " --mm-per-px 0.08 --center 330,270 --image " + (dir.path / "match.png").string());
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  // The hole cut by the symmetry plane is one full hole of the 112 removed columns.
+  CHECK(r.out.find("simulation: 1 hole") != std::string::npos);
+  const std::string json = slurp(dir.path / "run" / "compare" / "plate_compare.json");
+  CHECK(jsonNumber(json, "iou") >= 0.9);
+  std::smatch m;
+  REQUIRE(std::regex_search(json, m, std::regex("simulation_holes\": \\[\\{\"area_m2\": ([-0-9.eE+]+)")));
+  CHECK(std::stod(m[1]) == Approx(112e-6).epsilon(0.02));
 }
