@@ -232,6 +232,15 @@ std::string sceneWithChanges(const std::string& text, const std::string& name,
   return out;
 }
 
+/// The --set changes a run's copy of its scene lists as "# --set KEY=VALUE" lines.
+std::vector<std::string> listedChanges(const std::string& scene_text) {
+  std::vector<std::string> changes;
+  std::istringstream lines(scene_text);
+  for (std::string l; std::getline(lines, l);)
+    if (l.rfind("# --set ", 0) == 0) changes.push_back(l.substr(8));
+  return changes;
+}
+
 std::string readText(const fs::path& path) {
   std::ifstream in(path);
   std::stringstream text;
@@ -378,8 +387,8 @@ std::string Workbench::runFolder() const {
 RunSession& Workbench::session() {
   if (scene_path_.empty())
     throw UsageError(run_dir_.empty() ? "no scene loaded: `load SCENE.toml` first"
-                                      : "a run folder holds no model to run or probe; `load` a "
-                                        "scene to run it");
+                                      : "a run folder holds no model to run or probe; `restart` "
+                                        "from one of its checkpoints or `load` its scene");
   if (!session_) {
     auto s = std::make_unique<RunSession>();
     s->open(scene_path_, overrides_, options_.out, options_.materials, &std::cout);
@@ -413,20 +422,16 @@ void Workbench::load(const std::vector<std::string>& a) {
     scene_path_.clear();
     overrides_.clear();
     run_dir_ = path;
-    // fesph run copies the scene with its --set overrides as "# --set KEY=VALUE" lines.
     const std::string text = readText(fs::path(path) / "scene.toml");
-    std::vector<std::string> changes;
-    std::istringstream lines(text);
-    for (std::string l; std::getline(lines, l);)
-      if (l.rfind("# --set ", 0) == 0) changes.push_back(l.substr(8));
     try {
-      scene_text_ = text.empty() ? "" : sceneWithChanges(text, path + "/scene.toml", changes);
+      scene_text_ = text.empty() ? "" : sceneWithChanges(text, path + "/scene.toml", listedChanges(text));
     } catch (const InputError&) {
       scene_text_.clear();  // a copy that no longer parses: no values to show
     }
     const RunInfo info = readRunInfo(path);
-    std::printf("Run folder %s: %zu bodies (render, plot; to run it again, load its scene)\n",
-                path.c_str(), info.bodies.size());
+    std::printf("Run folder %s: %zu bodies, %zu checkpoints (render, plot, compare; `restart` "
+                "goes on from its newest checkpoint)\n",
+                path.c_str(), info.bodies.size(), listCheckpoints(path).size());
     return;
   }
   // The command line's --set applies to the scene given on the command line only.
@@ -764,13 +769,9 @@ void Workbench::restart(const std::vector<std::string>& a) {
   s->restart(path, changes, "", &std::cout);
   // The scene is the one saved in the checkpoint, with the --set changes it lists.
   const Scene& sc = s->scene();
-  std::vector<std::string> overrides;
-  std::istringstream lines(sc.text);
-  for (std::string l; std::getline(lines, l);)
-    if (l.rfind("# --set ", 0) == 0) overrides.push_back(l.substr(8));
-  scene_text_ = sceneWithChanges(sc.text, sc.path, overrides);
+  overrides_ = listedChanges(sc.text);
+  scene_text_ = sceneWithChanges(sc.text, sc.path, overrides_);
   scene_path_ = sc.path;
-  overrides_ = std::move(overrides);
   run_dir_.clear();
   session_ = std::move(s);
   std::printf("Restarted at t = %.6g s, step %ld of %.6g s; output continues in %s\n",
