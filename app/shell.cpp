@@ -354,6 +354,7 @@ Workbench::Workbench(ShellOptions options, std::atomic<bool>* stop, bool interac
 Workbench::~Workbench() = default;
 
 bool Workbench::execute(const std::string& line) {
+  stop_->store(false);  // a Ctrl-C while meshing for a run still pauses that run
   try {
     const std::vector<std::string> w = words(line);
     if (w.empty()) return true;
@@ -554,7 +555,6 @@ void Workbench::advance(double until, long steps) {
                 s.model().time);
     return;
   }
-  stop_->store(false);
   Progress progress(s.endTime(), interactive_);
   s.onStep([&](const Model& m) { progress.update(m.time, m.step, m.dt); });
   const StopReason why = s.advance(until, steps, stop_);
