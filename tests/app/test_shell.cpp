@@ -286,6 +286,9 @@ TEST_CASE("fesph shell on a terminal: completion, history, Ctrl-C pauses a run",
   TempFolder dir("shell_tty");
   Terminal t({FESPH_BINARY, "shell", kScene, "--out", (dir.path / "run").string()}, dir.path);
   REQUIRE(t.waitFor("fesph> "));
+  t.send("load " + std::string(FESPH_TEST_APP_DIR) + "/shell_sc\t\r");  // a file name
+  CHECK(t.waitFor("shell_scene.toml: \"Shell test impact\""));
+  REQUIRE(t.waitFor("fesph> "));
   t.send("mesh in\t\r");  // completes to `mesh info`
   CHECK(t.waitFor("total: 1332 elements"));
   REQUIRE(t.waitFor("fesph> "));
