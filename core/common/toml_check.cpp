@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <sstream>
 
@@ -106,6 +107,13 @@ toml::source_region where(const toml::table& t, std::string_view key) {
   return n ? n->source() : t.source();
 }
 
+double numberValue(const toml::node& n) {
+  // toml++'s value<double>() is empty for an integer a double cannot hold exactly (2^63 - 1).
+  if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+  if (const auto* f = n.as_floating_point()) return f->get();
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 double number(const toml::table& t, std::string_view key, const std::string& file,
               std::optional<double> fallback) {
   const toml::node* n = find(t, key);
@@ -115,7 +123,7 @@ double number(const toml::table& t, std::string_view key, const std::string& fil
   }
   if (!n->is_number())
     fail(file, n->source(), "'" + std::string(key) + "' must be a number, not " + typeName(*n));
-  const double x = n->value<double>().value();
+  const double x = numberValue(*n);
   if (!std::isfinite(x)) fail(file, n->source(), "'" + std::string(key) + "' must be finite");
   return x;
 }
@@ -191,9 +199,9 @@ Vec3 vec3(const toml::table& t, std::string_view key, const std::string& file,
   Vec3 v;
   for (int i = 0; i < 3; ++i) {
     const toml::node& e = *a->get(static_cast<std::size_t>(i));
-    if (!e.is_number() || !std::isfinite(e.value<double>().value()))
+    if (!e.is_number() || !std::isfinite(numberValue(e)))
       fail(file, e.source(), "'" + std::string(key) + "' must hold 3 finite numbers");
-    v[i] = e.value<double>().value();
+    v[i] = numberValue(e);
   }
   return v;
 }

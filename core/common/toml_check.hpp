@@ -31,6 +31,9 @@ void allowKeys(const toml::table& t, const std::string& file,
 void allowKeys(const toml::table& t, const std::string& file,
                const std::vector<std::string>& allowed, std::string_view context);
 
+/// The value of a number node (integer or float) as a double; NaN for any other node.
+double numberValue(const toml::node& n);
+
 /// Typed access. A missing key without a fallback is an error located at the table.
 double number(const toml::table& t, std::string_view key, const std::string& file,
               std::optional<double> fallback = std::nullopt);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -195,6 +196,22 @@ void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
     fail(file, where(*t, "checkpoints_kept"), "'checkpoints_kept' must be >= 1");
 }
 
+// A mesh size that would need more tetrahedra than any run can hold is a typo (or a unit
+// slip), caught here rather than after Gmsh has filled the memory. About 8.5 V / h^3
+// tetrahedra fill a volume V at edge length h (a regular tet holds h^3 / (6 sqrt 2)).
+constexpr double kMaxTets = 50e6;
+double tetEstimate(double volume, double h) { return 6 * std::sqrt(2.0) * volume / (h * h * h); }
+
+void checkMeshCount(double tets, const toml::table& t, const std::string& file) {
+  if (tets <= kMaxTets) return;
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "'mesh_size' gives about %.3g tetrahedra for this body (at most %.3g): use a "
+                "coarser mesh (the size is in m)",
+                tets, kMaxTets);
+  fail(file, where(t, "mesh_size"), buf);
+}
+
 PlateSpec readPlate(const toml::table& t, const std::string& file, bool half) {
   allowKeys(t, file,
             {"type", "size_x", "size_y", "thickness", "mesh_size", "coarse_size", "refine_center",
@@ -210,15 +227,21 @@ PlateSpec readPlate(const toml::table& t, const std::string& file, bool half) {
     fail(file, where(t, "coarse_size"), "'coarse_size' must be >= 'mesh_size'");
   if (const toml::node* n = t.get("refine_center")) {
     const toml::array* a = n->as_array();
-    if (!a || a->size() != 2 || !a->get(0)->is_number() || !a->get(1)->is_number())
-      fail(file, n->source(), "'refine_center' must be [x, y] in the plate's local frame");
-    p.refine_x = a->get(0)->value<double>().value();
-    p.refine_y = a->get(1)->value<double>().value();
+    if (!a || a->size() != 2 || !a->get(0)->is_number() || !a->get(1)->is_number() ||
+        !std::isfinite(numberValue(*a->get(0))) || !std::isfinite(numberValue(*a->get(1))))
+      fail(file, n->source(),
+           "'refine_center' must be [x, y] (finite numbers) in the plate's local frame");
+    p.refine_x = numberValue(*a->get(0));
+    p.refine_y = numberValue(*a->get(1));
   }
   p.refine_radius = positive(t, "refine_radius", file, 0.0, true);
   p.refine_stretch_x = positive(t, "refine_stretch_x", file, 1.0);
   p.grade_distance = positive(t, "grade_distance", file, 0.5 * std::max(p.size_x, p.size_y), true);
   p.half = half;
+  const double volume = p.size_x * p.size_y * p.thickness;
+  const double r = p.refine_radius * std::max(1.0, p.refine_stretch_x) + p.grade_distance;
+  const double fine = p.refine_radius > 0 ? std::min(volume, M_PI * r * r * p.thickness) : volume;
+  checkMeshCount(tetEstimate(fine, p.fine_size) + tetEstimate(volume, p.coarse_size), t, file);
   return p;
 }
 
@@ -251,6 +274,8 @@ ProjectileSpec readProjectile(const toml::table& t, const std::string& file, boo
   }
   p.mesh_size = positive(t, "mesh_size", file);
   p.half = half;
+  checkMeshCount(tetEstimate(0.25 * M_PI * p.diameter * p.diameter * p.length, p.mesh_size), t,
+                 file);
   return p;
 }
 
