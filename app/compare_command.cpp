@@ -93,7 +93,7 @@ void writeJson(const std::string& path, const CompareOptions& o, const std::stri
       << ",\n  \"registration\": \"" << (o.centre_px ? "centre given" : "hole centroids aligned")
       << "\", \"plate_centre_px\": [" << num(centre_px.x()) << ", " << num(centre_px.y()) << "],\n  \"iou\": " << num(c.iou)
       << ", \"photo_px\": " << c.photo_px << ", \"simulation_px\": " << c.simulated_px
-      << ", \"both_px\": " << c.both_px << ",\n  \"photo_holes\": " << holes(c.photo)
+      << ", \"both_px\": " << c.both_px << ", \"simulation_outside_fraction\": " << num(c.simulated_outside) << ",\n  \"photo_holes\": " << holes(c.photo)
       << ",\n  \"simulation_holes\": " << holes(c.simulated) << "\n}\n";
   if (!out) throw RunError("cannot write " + path);
 }
@@ -164,6 +164,10 @@ int compareCommand(const CompareCommandOptions& opt) {
     printHoles("simulation", cmp.simulated);
     std::printf("  IoU %.4f (overlap %zu px, photograph %zu px, simulation %zu px)\n", cmp.iou,
                 cmp.both_px, cmp.photo_px, cmp.simulated_px);
+    if (cmp.simulated_outside > 0.01)  // more than pixel rounding
+      std::printf("  note: %.0f %% of the simulated holes' area lies outside the photograph and is "
+                  "not compared\n",
+                  100 * cmp.simulated_outside);
 
     const std::string out = opt.out.empty() ? opt.run_dir + "/compare" : opt.out;
     fs::create_directories(out);

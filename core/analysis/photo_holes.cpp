@@ -235,6 +235,19 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
     out.simulated_px += out.simulated_mask[p];
     out.both_px += photo.mask[p] & out.simulated_mask[p];
   }
+  // Filled pixels against the outlines' own area (shoelace), in pixels.
+  double outline_px = 0;
+  for (const auto& poly : polygons) {
+    double a2 = 0;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Eigen::Vector2d& p = poly[k];
+      const Eigen::Vector2d& q = poly[(k + 1) % poly.size()];
+      a2 += p.x() * q.y() - q.x() * p.y();
+    }
+    outline_px += 0.5 * std::abs(a2);
+  }
+  if (outline_px > 0)
+    out.simulated_outside = std::max(0.0, 1 - static_cast<double>(out.simulated_px) / outline_px);
   const std::size_t either = out.photo_px + out.simulated_px - out.both_px;
   out.iou = either > 0 ? static_cast<double>(out.both_px) / static_cast<double>(either) : 0.0;
   return out;

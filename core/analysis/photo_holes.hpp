@@ -103,6 +103,8 @@ struct HoleComparison {
   std::vector<std::uint8_t> simulated_mask;  ///< per photograph pixel: 1 in a simulated hole
   std::size_t photo_px = 0, simulated_px = 0, both_px = 0;
   double iou = 0;  ///< |photo ∩ simulated| / |photo ∪ simulated| over the pixels; 0 if both empty
+  /// Share of the simulated holes' area that falls outside the photograph (not compared).
+  double simulated_outside = 0;
 };
 
 /// Register the photograph on the simulated plate and compare the two hole maps on the

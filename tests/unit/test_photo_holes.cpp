@@ -155,6 +155,7 @@ TEST_CASE("photograph vs simulated hole map: IoU for the matching and a shifted 
     const HoleComparison good = compareHoles(seg, matching, o);
     CHECK(good.iou >= 0.9);
     CHECK(good.simulated.size() == 2);
+    CHECK(good.simulated_outside < 0.005);
     const HoleComparison bad = compareHoles(seg, shifted, o);
     CHECK(bad.iou < 0.5);
     // Discs 8 mm apart: lenses of 78.6 (r = 8 mm) and 8.2 mm^2 (r = 5 mm) over a union of
@@ -178,6 +179,21 @@ TEST_CASE("photograph vs simulated hole map: IoU for the matching and a shifted 
     const HoleComparison c = compareHoles(seg, shifted, o);
     CHECK(c.iou >= 0.9);
     CHECK((c.frame.toPlate(centre) - Eigen::Vector2d(8 * mm, 0)).norm() < 0.1 * mm);
+  }
+  SECTION("a photograph of part of the plate: the simulated holes outside are not compared") {
+    // 16 mm wide, its left edge 2 mm right of the plate's centre: the small hole (x 7..17 mm)
+    // is inside, the big one (x -18..-2 mm) outside, the area share outside 200/280.
+    const Eigen::Vector2d c(-20.0, 400.0);
+    const PhotoSegmentation seg = segmentHoles(photograph(plate, 160, 800, 0.1, c));
+    CompareOptions o;
+    o.m_per_px = 0.1 * mm;
+    o.centre_px = c;
+    const HoleComparison part = compareHoles(seg, matching, o);
+    CHECK(part.photo.size() == 1);
+    CHECK(part.iou >= 0.9);
+    CHECK(part.simulated_outside == Approx(plate.trueArea(kHoles[0]) /
+                                           (plate.trueArea(kHoles[0]) + plate.trueArea(kHoles[1])))
+                                        .margin(0.02));
   }
   SECTION("a wrong scale does not match") {
     const PhotoSegmentation seg = segmentHoles(photograph(plate, 800, 800, 0.1, centre));
