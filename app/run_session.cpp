@@ -89,6 +89,7 @@ void RunSession::openWriters(bool resume, const RunProgress& saved) {
   if (ec) throw RunError("cannot create output folder " + dir + ": " + ec.message());
   {
     std::ofstream(dir + "/scene.toml") << scene_.text;
+    std::ofstream(dir + "/scene_source.toml") << scene_.source;
   }
   try {
     SeriesOptions options;

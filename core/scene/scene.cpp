@@ -384,19 +384,21 @@ Scene loadSceneText(const std::string& text, const std::string& path,
                     const std::string& material_library) {
   Scene sc;
   sc.path = path;
-  sc.text = text;
   sc.source = text;
   sc.overrides = overrides;
-  toml::table root = parseText(sc.text, path);
+  toml::table root = parseText(sc.source, path);
   const std::string& file = path;
   for (const std::string& o : overrides) applyOverride(root, o);
   // The resolution preset first, then the --set overrides again so that they win over it.
   sc.resolution = applyResolution(root, file);
-  if (sc.resolution != "default") {
+  if (sc.resolution != "default")
     for (const std::string& o : overrides) applyOverride(root, o);
-    sc.text += "\n# resolution: " + sc.resolution;
-  }
-  for (const std::string& o : overrides) sc.text += "\n# --set " + o;
+  // The scene as it runs: overrides and preset applied, every number to round-trip precision.
+  std::ostringstream effective;
+  effective << "# fesph: the scene " << path << " as run (resolution " << sc.resolution;
+  for (const std::string& o : overrides) effective << "; --set " << o;
+  effective << ")\n" << root << "\n";
+  sc.text = effective.str();
   allowKeys(root, file,
             {"title", "resolution", "resolutions", "simulation", "output", "contact",
              "conversion", "sph", "materials", "bodies", "boundary"},

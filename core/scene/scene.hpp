@@ -52,7 +52,7 @@ struct OutputSpec {
 
 struct Scene {
   std::string path;    ///< the scene file
-  std::string text;    ///< its text after --set overrides, for the run's metadata
+  std::string text;    ///< the scene as run (overrides and resolution applied), TOML
   std::string source;  ///< the text as read, before the overrides
   std::vector<std::string> overrides;  ///< the --set overrides applied, in order
   std::string material_library;  ///< path of the material library it was read with
