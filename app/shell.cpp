@@ -712,7 +712,8 @@ void Workbench::probe(const std::vector<std::string>& a) {
     const Vec3 nose_at = c + (lead - c.dot(dir)) * dir;
     std::printf("projectile '%s'\n", body.name.c_str());
     std::printf("  velocity        (%.2f, %.2f, %.2f) m/s, |v| %.2f m/s\n", v.x(), v.y(), v.z(), v.norm());
-    std::printf("  centre of mass  (%.3f, %.3f, %.3f) mm\n", c.x() * 1e3, c.y() * 1e3, c.z() * 1e3);
+    std::printf("  centre of mass  (%.3f, %.3f, %.3f) mm%s\n", c.x() * 1e3, c.y() * 1e3, c.z() * 1e3,
+                session().scene().half ? " (of the modelled half; mass too)" : "");
     std::printf("  nose            (%.3f, %.3f, %.3f) mm\n", nose_at.x() * 1e3, nose_at.y() * 1e3,
                 nose_at.z() * 1e3);
     std::printf("  mass            %.6g kg\n", mass);
