@@ -63,6 +63,36 @@ static_assert(packed<Vec3>() && packed<Mat3>() && packed<PointState>() &&
               packed<std::array<int, 4>>() && packed<FaceRecord>() && packed<ExteriorFace>() &&
               packed<std::pair<int, int>>() && packed<ElemStatus>());
 
+// A field added to the state must be added to transfer() below (or named as scratch there):
+// these sizes, the sums of the fields transfer() knows, make the build say so.
+constexpr std::size_t kVec = sizeof(std::vector<int>);
+#define FESPH_CHECKPOINT_FIELDS(T, size)                                                   \
+  static_assert(sizeof(T) == (size), #T " changed: store the new field in the checkpoint " \
+                                        "(transfer() in core/io/checkpoint.cpp)")
+FESPH_CHECKPOINT_FIELDS(Nodes, 7 * kVec);
+FESPH_CHECKPOINT_FIELDS(Elements, 14 * kVec);
+FESPH_CHECKPOINT_FIELDS(Particles, 14 * kVec);
+FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
+FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
+                                          sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
+                                          11 * kVec);
+FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
+FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
+                                            8 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(ContactControls, 3 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(ConversionControls, 5 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(SphControls, 9 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(Material, 3 * sizeof(std::string) + 27 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(double) +
+                                  4 * sizeof(std::size_t));
+FESPH_CHECKPOINT_FIELDS(Model, sizeof(Nodes) + sizeof(Elements) + sizeof(Particles) +
+                                   3 * kVec + sizeof(Surfaces) + sizeof(SphWorkspace) +
+                                   sizeof(SolverControls) + sizeof(EnergyBudget) +
+                                   sizeof(ConversionStats) + 7 * kVec + 2 * sizeof(double) +
+                                   sizeof(long) + sizeof(std::string) + sizeof(PhaseTimes));
+#undef FESPH_CHECKPOINT_FIELDS
+
 // ---- the two directions ---------------------------------------------------------------
 
 class Writer {
