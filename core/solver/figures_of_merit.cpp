@@ -52,6 +52,7 @@ Footprint modelFootprint(const Model& m) {
   f.particles = bytes(pa.x, pa.v, pa.f, pa.m, pa.V, pa.rho, pa.h, pa.d0, pa.dt, pa.state) +
                 bytes(pa.body, pa.material, pa.parent, pa.tie, m.v_particle_free) +
                 bytes(ws.neighbours.offset, ws.neighbours.index, ws.pair_grad, ws.pair_grad_prev) +
+                bytes(ws.neighbours_last.offset, ws.neighbours_last.index, ws.pair_grad_last) +
                 snapshotBytes(ws.current) + snapshotBytes(ws.previous) +
                 bytes(ws.corrected, ws.velocity_grad, ws.velocity_grad_prev, ws.stress_b) +
                 bytes(ws.plastic_work, ws.av_work, ws.contact_radius, ws.contact_spacing) +

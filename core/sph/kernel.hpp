@@ -7,6 +7,9 @@
 
 namespace fesph {
 
+/// pi as a double: EIGEN_PI is a long double, which put every kernel evaluation on the x87 unit.
+constexpr double kKernelPi = 3.14159265358979323846;
+
 /// The kernel's shape without its normalisation: W(r, h) = kernelShape(r/h) / (pi h^3).
 inline double kernelShape(double q) {
   if (q < 1.0) return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
@@ -20,14 +23,14 @@ inline double kernelShape(double q) {
 /// W(r, h) = 1/(pi h^3) {1 - 1.5 q^2 + 0.75 q^3 (q < 1); 0.25 (2 - q)^3 (1 <= q < 2); 0},
 /// q = r/h; r, h in m, W in 1/m^3. Integrates to 1 over space.
 inline double kernelW(double r, double h) {
-  return kernelShape(r / h) / (EIGEN_PI * h * h * h);
+  return kernelShape(r / h) / (kKernelPi * h * h * h);
 }
 
 /// dW/dr divided by r (1/m^5): the gradient is this factor times the separation vector, and
 /// the division is exact at r = 0 (the limit is -3/(pi h^5)), so no special case is needed.
 inline double kernelDWdrOverR(double r, double h) {
   const double q = r / h;
-  const double norm = 1.0 / (EIGEN_PI * h * h * h * h * h);
+  const double norm = 1.0 / (kKernelPi * h * h * h * h * h);
   if (q < 1.0) return norm * (-3.0 + 2.25 * q);
   if (q < 2.0) {
     const double t = 2.0 - q;

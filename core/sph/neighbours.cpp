@@ -136,6 +136,45 @@ void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vecto
       thread_index_, count_, out);
 }
 
+void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
+                                          const std::vector<int>& body, double skin,
+                                          NeighbourList& out) {
+  const std::size_t n = x.size();
+  const long ni = static_cast<long>(n);
+  // A pair inside the support now was inside the widened one at the build as long as no
+  // particle moved plus grew by more than its margin skin/2 h_built (triangle inequality);
+  // 0.99 of it leaves room for round-off in this test.
+  bool rebuild = n != x_built_.size() || body != body_built_ || !(skin > 0);
+  if (!rebuild) {
+#pragma omp parallel for schedule(static) reduction(|| : rebuild)
+    for (long i = 0; i < ni; ++i) {
+      const double drift = (x[i] - x_built_[i]).norm() + std::max(0.0, h[i] - h_built_[i]);
+      if (!(drift <= 0.99 * 0.5 * skin * h_built_[i])) rebuild = true;
+    }
+  }
+  if (rebuild) {
+    h_wide_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) h_wide_[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * h[i];
+    sphNeighbours(x, h_wide_, body, candidates_);
+    x_built_ = x;
+    h_built_ = h;
+    body_built_ = body;
+    ++verlet_builds_;
+  }
+  buildRows(
+      n,
+      [&](std::size_t i, std::vector<int>& buf) {
+        const Vec3 xi = x[i];
+        const double hi = h[i];
+        for (std::size_t k = candidates_.offset[i]; k < candidates_.offset[i + 1]; ++k) {
+          const int j = candidates_.index[k];
+          const double support = hi + h[j];  // the test of sphNeighbours, term for term
+          if ((xi - x[j]).squaredNorm() < support * support) buf.push_back(j);
+        }
+      },
+      thread_index_, count_, out);
+}
+
 void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
                                      const std::vector<int>& body,
                                      std::vector<std::pair<int, int>>& out) {

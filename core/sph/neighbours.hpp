@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Neighbour search for the SPH layer: a hashed uniform cell list rebuilt every step (O(N)),
-// SPH pairs within one body, contact pairs across bodies, and a brute-force reference.
+// Neighbour search for the SPH layer: a hashed uniform cell list (O(N)), SPH pairs within one
+// body (from scratch, or through a Verlet list rebuilt only when particles moved enough), contact pairs across bodies, and a brute-force reference.
 #pragma once
 
 #include "core/common/types.hpp"
@@ -61,6 +61,16 @@ class NeighbourSearch {
   void sphNeighbours(const std::vector<Vec3>& x, const std::vector<double>& h,
                      const std::vector<int>& body, NeighbourList& out);
 
+  /// sphNeighbours through a Verlet list: candidate pairs within the support widened by
+  /// (1 + skin/2), rebuilt only when a particle has moved, or its h grown, by more than its
+  /// share of the skin since the last build (or the particles changed). The candidates are
+  /// filtered with sphNeighbours' own test at every call, so `out` is bit for bit the list a
+  /// fresh sphNeighbours gives: when the candidates were built never changes a result.
+  void sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
+                           const std::vector<int>& body, double skin, NeighbourList& out);
+  /// Builds of the Verlet candidate list so far.
+  long verletBuilds() const { return verlet_builds_; }
+
   /// Contact candidates: pairs (i < j) of different bodies with |x_i - x_j| < r_i + r_j,
   /// sorted by (i, j). One grid over all points with cells of 2 max(r).
   void crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
@@ -71,6 +81,12 @@ class NeighbourSearch {
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
   std::vector<std::vector<int>> thread_index_;      ///< per-thread neighbour ids
   std::vector<std::size_t> count_;
+  // Verlet list: candidates and the state they were built from
+  NeighbourList candidates_;
+  std::vector<Vec3> x_built_;
+  std::vector<double> h_built_, h_wide_;
+  std::vector<int> body_built_;
+  long verlet_builds_ = 0;
 };
 
 /// O(N^2) reference for sphNeighbours, for tests.

@@ -100,11 +100,20 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
     ws.velocity_grad_prev[i] = ws.velocity_grad[i];
     return;
   }
+  // The last step computed the gradients of its own pairs in this very configuration: a pair
+  // in both lists (ascending rows, so one merge walk) takes that value, bit for bit the one
+  // computed here otherwise (a pair new to the list, or the first step after a restart).
+  const NeighbourList& last = ws.neighbours_last;
+  std::size_t kl = 0, kl_end = 0;
+  if (i + 1 < last.offset.size()) kl = last.offset[i], kl_end = last.offset[i + 1];
   Mat3 Gp = Mat3::Zero();
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
     if (j >= np) continue;
-    const Vec3 g = kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
+    while (kl < kl_end && static_cast<std::size_t>(last.index[kl]) < j) ++kl;
+    const Vec3 g = kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j
+                       ? ws.pair_grad_last[kl]
+                       : kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
     ws.pair_grad_prev[k] = g;
     Gp.noalias() += (prev.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
   }
@@ -244,8 +253,10 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   const std::size_t n = pa.size();
   if (n == 0) return;
   std::swap(ws.current, ws.previous);
+  std::swap(ws.neighbours, ws.neighbours_last);
+  std::swap(ws.pair_grad, ws.pair_grad_last);
   resizeWorkspace(ws, n);
-  ws.search.sphNeighbours(pa.x, pa.h, pa.body, ws.neighbours);
+  ws.search.sphNeighboursVerlet(pa.x, pa.h, pa.body, ws.controls.verlet_skin, ws.neighbours);
   ws.pair_grad.resize(ws.neighbours.pairs());
   ws.pair_grad_prev.resize(ws.neighbours.pairs());
   const long ni = static_cast<long>(n);

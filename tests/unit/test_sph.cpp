@@ -133,6 +133,40 @@ TEST_CASE("sph neighbours equal brute force on random clouds", "[unit][sph]") {
   }
 }
 
+TEST_CASE("sph Verlet neighbour list equals a fresh search as particles drift and grow",
+          "[unit][sph]") {
+  // Reference: sphNeighboursBruteForce at every call (exact equality of the lists) while a
+  // two-body cloud drifts by 0.02 h per call and its h grows by 0.5 % per call; the skin of
+  // 0.3 h must then last several calls (builds < calls / 3), and a jump of one particle by 2 h
+  // must force a rebuild that still finds its new neighbours.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
+  const std::size_t n = 1500;
+  std::vector<Vec3> x(n), drift(n);
+  std::vector<double> h(n, 0.4e-3);
+  std::vector<int> body(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = Vec3(pos(rng), pos(rng), pos(rng));
+    drift[i] = Vec3(dir(rng), dir(rng), dir(rng)).normalized() * 0.02 * h[i];
+    body[i] = static_cast<int>(i % 2);
+  }
+  NeighbourSearch search;
+  NeighbourList verlet, fresh;
+  const int calls = 30;
+  for (int k = 0; k < calls; ++k) {
+    if (k == 20) x[5] += Vec3(2.0 * h[5], 0, 0);
+    search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
+    sphNeighboursBruteForce(x, h, body, fresh);
+    INFO("call " << k << ": " << fresh.pairs() << " pairs, " << search.verletBuilds() << " builds");
+    REQUIRE(fresh.pairs() > 5 * n);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+    for (std::size_t i = 0; i < n; ++i) x[i] += drift[i], h[i] *= 1.005;
+  }
+  CHECK(search.verletBuilds() > 2);  // the drift and the jump did trigger rebuilds
+  CHECK(search.verletBuilds() < calls / 3);
+}
+
 TEST_CASE("sph free body conserves momentum and energy; forces independent of threads",
           "[unit][sph]") {
   // Reference: the anti-symmetric pair forces give f_ij = -f_ji, so the momentum of a free
