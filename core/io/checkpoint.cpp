@@ -74,15 +74,15 @@ FESPH_CHECKPOINT_FIELDS(Elements, 14 * kVec);
 FESPH_CHECKPOINT_FIELDS(Particles, 14 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
-                                          sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
-                                          11 * kVec);
+                                          2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
+                                          12 * kVec);
 FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
                                             8 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ContactControls, 3 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionControls, 5 * sizeof(double));
-FESPH_CHECKPOINT_FIELDS(SphControls, 9 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(SphControls, 10 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(Material, 3 * sizeof(std::string) + 27 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(double) +
                                   4 * sizeof(std::size_t));
@@ -236,6 +236,7 @@ template <class Ar> void transfer(Ar& ar, SolverControls& c, SphControls& s) {
   ar.value("sph_as_exponent", s.as_exponent);
   ar.value("sph_contact_passes", s.contact_passes);
   ar.value("sph_dt_factor", s.dt_factor);
+  ar.value("sph_verlet_skin", s.verlet_skin);
   ar.leave();
 }
 
@@ -367,6 +368,9 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("neighbour_index", ws.neighbours.index);
   ar.array("pair_grad", ws.pair_grad);
   ar.array("pair_grad_prev", ws.pair_grad_prev);
+  ar.array("neighbour_last_offset", ws.neighbours_last.offset);
+  ar.array("neighbour_last_index", ws.neighbours_last.index);
+  ar.array("pair_grad_last", ws.pair_grad_last);
   ar.enter("current");
   transfer(ar, ws.current);
   ar.leave();
