@@ -43,6 +43,13 @@ int renderCommand(const RenderOptions& opt);
 void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
                int height, const std::string& out_dir);
 
+struct ReportOptions {
+  std::vector<std::string> run_dirs;  ///< run folders; the first one's scene gives the reference
+  std::string out;                    ///< report folder; empty: <first run's parent>/report
+};
+
+int reportCommand(const ReportOptions& opt);
+
 struct CompareCommandOptions {
   std::string run_dir;
   std::string plate = "1";    ///< 1-based plate number (bodies that are not projectiles) or name

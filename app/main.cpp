@@ -56,6 +56,14 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--size", render.size, "Image size WxH in pixels (default 1600x1200)");
   render_cmd->add_option("--out", render.out, "Image folder (default RUN_DIR/images)");
 
+  fesph::ReportOptions report;
+  CLI::App* report_cmd = app.add_subcommand(
+      "report", "report.md: residual velocities against the experiment, velocity histories, "
+                "wall times, plate images and holes of one or more runs");
+  report_cmd->add_option("run_dirs", report.run_dirs, "Run folders")
+      ->required()->check(CLI::ExistingDirectory);
+  report_cmd->add_option("--out", report.out, "Report folder (default: beside the first run)");
+
   fesph::CompareCommandOptions compare;
   CLI::App* compare_cmd = app.add_subcommand(
       "compare", "Holes in a photograph of a tested plate against the simulated plate");
@@ -80,6 +88,7 @@ int main(int argc, char** argv) {
   }
   if (*run_cmd) return fesph::runCommand(run);
   if (*render_cmd) return fesph::renderCommand(render);
+  if (*report_cmd) return fesph::reportCommand(report);
   if (*compare_cmd) return fesph::compareCommand(compare);
   if (*shell_cmd) return fesph::shellCommand(shell);
   return 2;

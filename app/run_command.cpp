@@ -69,6 +69,9 @@ int runCommand(const RunOptions& opt) {
   }
   progress.finish();
   session.printSummary();
+  session.writeSummary(folder + "/summary.toml", why == StopReason::Failed        ? "failed"
+                                                 : why == StopReason::Interrupted ? "interrupted"
+                                                                                  : "complete");
   if (!opt.no_images && why != StopReason::Interrupted) {
     // A failed image must not fail a finished run: warn and keep the exit code.
     std::printf("Images\n");

@@ -199,6 +199,30 @@ StopReason RunSession::advance(double until_time, long max_steps,
   }
 }
 
+void RunSession::writeSummary(const std::string& path, const std::string& status) const {
+  // TOML, so that `fesph report` (and any tool) reads it back without a parser of its own.
+  const Model& m = model_;
+  const double wall_total =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - opened_).count();
+  const char* modes[] = {"none", "erosion", "sph"};
+  std::ofstream out(path);
+  out.precision(10);
+  out << "# fesph run summary\n"
+      << "status = \"" << status << "\"\n"
+      << "time = " << m.time << "\nend_time = " << endTime() << "\nsteps = " << m.step << "\n"
+      << "wall_time_s = " << wall_total << "\nsolver_time_s = " << wall_solver_ << "\n"
+      << "threads = " << omp_get_max_threads() << "\n"
+      << "resolution = \"" << scene_.resolution << "\"\n"
+      << "conversion_mode = \"" << modes[static_cast<int>(m.controls.conversion.mode)] << "\"\n"
+      << "plastic_strain = " << m.controls.conversion.plastic_strain << "\n"
+      << "elements = " << m.elems.size() << "\nlive_elements = " << liveElements(m) << "\n"
+      << "particles = " << m.particles.size() << "\n"
+      << "converted = " << m.conversion.converted << "\neroded = " << m.conversion.eroded << "\n"
+      << "eroded_mass_kg = " << m.conversion.eroded_mass << "\n"
+      << "energy_balance = " << m.energy.balanceError() << "\n";
+  if (element_steps_ > 0) out << "ns_per_element_step = " << 1e9 * wall_solver_ / element_steps_ << "\n";
+}
+
 void RunSession::printSummary() const {
   const Model& model = model_;
   const double wall_total =

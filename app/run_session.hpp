@@ -78,6 +78,10 @@ class RunSession {
   /// The RunError message of a failed advance; empty otherwise.
   const std::string& failure() const { return failure_; }
 
+  /// Write summary.toml: `status` ("complete", "failed", "interrupted"), times, counts,
+  /// conversion settings, energy balance, cost. Read by `fesph report`.
+  void writeSummary(const std::string& path, const std::string& status) const;
+
   /// Print the run summary (counts, wall time, energy budget, projectile figures) to stdout.
   void printSummary() const;
 

@@ -176,6 +176,39 @@ void readSph(const toml::table* t, const std::string& file, Scene& sc) {
   if (c.dt_factor > 1) fail(file, where(*t, "dt_factor"), "'dt_factor' must be in (0, 1]");
 }
 
+// A list of residual velocities, one per plate, each a positive number.
+std::vector<double> velocities(const toml::node& n, const std::string& file, const std::string& what,
+                               std::size_t plates) {
+  const toml::array* a = n.as_array();
+  if (!a) fail(file, n.source(), what + " must be an array of velocities in m/s, one per plate");
+  std::vector<double> out;
+  for (const toml::node& v : *a) {
+    if (!v.is_number() || !(numberValue(v) > 0))
+      fail(file, v.source(), what + ": expected a positive velocity in m/s");
+    out.push_back(numberValue(v));
+  }
+  if (out.size() != plates)
+    fail(file, n.source(),
+         what + " has " + std::to_string(out.size()) + " values for " + std::to_string(plates) +
+             " plates");
+  return out;
+}
+
+void readReference(const toml::table* t, const std::string& file, Scene& sc) {
+  if (!t) return;
+  allowKeys(*t, file, {"source", "experiment", "published"}, "[reference]");
+  std::size_t plates = 0;
+  for (const SceneBody& b : sc.bodies) plates += std::holds_alternative<PlateSpec>(b.shape);
+  ReferenceData& r = sc.reference;
+  r.source = string(*t, "source", file, "");
+  if (const toml::node* e = t->get("experiment"))
+    r.experiment = velocities(*e, file, "'experiment'", plates);
+  if (const toml::table* p = table(*t, "published", file))
+    for (auto&& [k, v] : *p)
+      r.published.emplace_back(std::string(k.str()),
+                               velocities(v, file, "'" + std::string(k.str()) + "'", plates));
+}
+
 void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
   OutputSpec& o = sc.output;
   o.folder = "runs/" + fs::path(file).stem().string();
@@ -401,7 +434,7 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   sc.text = effective.str();
   allowKeys(root, file,
             {"title", "resolution", "resolutions", "simulation", "output", "contact",
-             "conversion", "sph", "materials", "bodies", "boundary"},
+             "conversion", "sph", "materials", "bodies", "boundary", "reference"},
             "the scene");
   sc.title = string(root, "title", file, fs::path(path).stem().string());
   readSimulation(*table(root, "simulation", file, true), file, sc);
@@ -450,6 +483,7 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   sc.material_ids = material_ids;
 
   for (const toml::table* bt : tables(root, "boundary", file)) readBoundary(*bt, file, sc, names);
+  readReference(table(root, "reference", file), file, sc);
   if (sc.half) sc.symmetry.push_back({1, 0.0});
   return sc;
 }

@@ -50,6 +50,14 @@ struct OutputSpec {
   long checkpoints_kept = 2;         ///< the newest checkpoints kept in the run folder
 };
 
+/// [reference]: what a scene's results are compared with, residual velocity after each plate
+/// (m/s, in the order the projectile meets the plates).
+struct ReferenceData {
+  std::string source;                   ///< where the numbers come from
+  std::vector<double> experiment;       ///< measured; empty: none
+  std::vector<std::pair<std::string, std::vector<double>>> published;  ///< label -> values
+};
+
 struct Scene {
   std::string path;    ///< the scene file
   std::string text;    ///< the scene as run (overrides and resolution applied), TOML
@@ -68,6 +76,7 @@ struct Scene {
   std::vector<FixedBoundary> fixed;
   std::vector<SymmetryPlane> symmetry;
   std::vector<RigidWall> walls;
+  ReferenceData reference;
 };
 
 /// Read and check a scene. `overrides` are "dotted.key=value" strings (TOML values) applied

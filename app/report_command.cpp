@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: MIT
+// `fesph report RUN_DIR...`: report.md comparing runs with each other, with the experiment and
+// with published simulations (the scene's [reference]): residual velocity after each plate
+// (Table 1 of Hu et al. 2015), velocity histories overlaid, wall times, plate images and holes.
+// Everything it shows is read from the run folders; missing images are drawn first.
+#include "app/commands.hpp"
+
+#include "core/common/error.hpp"
+#include "core/common/toml_check.hpp"
+#include "core/scene/scene.hpp"
+#include "render/velocity_plot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace fesph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using CsvRow = std::map<std::string, std::string>;
+
+// A CSV file with a header line; no quoting (fesph writes none). Missing file: no rows.
+std::vector<CsvRow> readCsv(const fs::path& path) {
+  std::vector<CsvRow> rows;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) return rows;
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string h; std::getline(hs, h, ',');) header.push_back(h);
+  while (std::getline(in, line)) {
+    CsvRow row;
+    std::stringstream ls(line);
+    std::string cell;
+    for (std::size_t k = 0; k < header.size() && std::getline(ls, cell, ','); ++k)
+      row[header[k]] = cell;
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+struct ReportRun {
+  fs::path dir;
+  std::string label;            ///< e.g. "FE-SPH 0.4 (quick)"
+  Scene scene;                  ///< the scene as run
+  toml::table summary;          ///< summary.toml (empty when the run wrote none)
+  std::vector<double> residual; ///< after each plate, m/s; NaN: not measured
+};
+
+double summaryNumber(const ReportRun& r, const char* key) {
+  const toml::node* n = r.summary.get(key);
+  return n && n->is_number() ? tomlcheck::numberValue(*n) : std::nan("");
+}
+
+std::string summaryString(const ReportRun& r, const char* key, const std::string& fallback) {
+  const auto v = r.summary[key].value<std::string>();
+  return v ? *v : fallback;
+}
+
+// "runs/x/" and "runs/x" are the same folder.
+fs::path folder(const std::string& dir) {
+  fs::path p = fs::absolute(dir).lexically_normal();
+  return p.filename().empty() ? p.parent_path() : p;
+}
+
+ReportRun readRun(const fs::path& dir) {
+  ReportRun r;
+  r.dir = dir;
+  const fs::path scene = dir / "scene.toml";
+  if (!fs::exists(scene) || !fs::exists(dir / "elements.pvd"))
+    throw InputError(dir.string(), 0, 0, "not a run folder (it needs scene.toml and elements.pvd)");
+  r.scene = loadScene(scene.string());
+  if (fs::exists(dir / "summary.toml")) r.summary = tomlcheck::parseFile((dir / "summary.toml").string());
+  const ConversionControls& c = r.scene.controls.conversion;
+  char label[160];
+  if (c.mode == ConversionMode::Sph)
+    std::snprintf(label, sizeof label, "FE-SPH %.2g", c.plastic_strain);
+  else if (c.mode == ConversionMode::Erosion)
+    std::snprintf(label, sizeof label, "erosion %.2g", c.plastic_strain);
+  else
+    std::snprintf(label, sizeof label, "FE");
+  r.label = std::string(label) + " (" + r.scene.resolution + ", " + dir.filename().string() + ")";
+  for (const CsvRow& row : readCsv(dir / "residual_velocities.csv")) {
+    const auto it = row.find("residual_velocity_m_s");
+    r.residual.push_back(it != row.end() && !it->second.empty() ? std::stod(it->second)
+                                                                : std::nan(""));
+  }
+  return r;
+}
+
+std::string velocity(double v) {
+  if (!std::isfinite(v)) return "-";
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f", v);
+  return s;
+}
+
+// Error against the experiment, (simulation - experiment) / experiment in %.
+std::string error(double sim, double exp) {
+  if (!std::isfinite(sim) || !std::isfinite(exp)) return "-";
+  char s[32];
+  std::snprintf(s, sizeof s, "%+.1f %%", 100 * (sim - exp) / exp);
+  return s;
+}
+
+double at(const std::vector<double>& v, std::size_t k) {
+  return k < v.size() ? v[k] : std::nan("");
+}
+
+// Copy a run's images into the report (drawn first when the run has none).
+std::vector<std::string> plateImages(const ReportRun& r, const fs::path& out, int index) {
+  const fs::path images = r.dir / "images";
+  if (!fs::exists(images / "holes.csv")) renderRun(r.dir.string(), -1.0, "damage", 1200, 900,
+                                                   images.string());
+  const fs::path dest = out / ("run" + std::to_string(index));
+  fs::create_directories(dest);
+  std::vector<std::string> copied;
+  for (const auto& entry : fs::directory_iterator(images)) {
+    const fs::path p = entry.path();
+    if (p.extension() != ".png" && p.extension() != ".csv" && p.extension() != ".json") continue;
+    fs::copy_file(p, dest / p.filename(), fs::copy_options::overwrite_existing);
+    if (p.extension() == ".png") copied.push_back((dest.filename() / p.filename()).string());
+  }
+  std::sort(copied.begin(), copied.end());
+  return copied;
+}
+
+void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
+  const Scene& first = runs.front().scene;
+  const ReferenceData& ref = first.reference;
+  std::size_t plates = ref.experiment.size();
+  for (const ReportRun& r : runs) plates = std::max(plates, r.residual.size());
+
+  // Table 1 as CSV and markdown.
+  std::ofstream csv(out / "table1.csv");
+  csv << "plate,experiment_m_s";
+  for (const auto& [label, v] : ref.published) csv << "," << label << "_m_s";
+  for (const ReportRun& r : runs) csv << "," << r.label << "_m_s";
+  csv << "\n";
+  std::ostringstream md;
+  std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  md << "# " << first.title << "\n\nReport of " << runs.size() << " run(s), written by fesph "
+     << FESPH_VERSION << " on " << date << ".\n\n";
+  md << "## Residual velocity after each plate\n\n"
+     << "Definition (the one used everywhere in fesph, `core/analysis/plate_crossings.hpp`): the "
+        "speed of the projectile's largest intact piece of elements at the first instant its "
+        "leading node reaches the plane one clear gap behind the plate's rear face (the front "
+        "face of the next plate; a virtual next plate at the same gap after the last one). "
+        "Errors are (value - experiment) / experiment.\n\n";
+  if (!ref.source.empty()) md << "Reference: " << ref.source << ".\n\n";
+  md << "| plate | experiment |";
+  for (const auto& [label, v] : ref.published) md << " " << label << " | error |";
+  for (const ReportRun& r : runs) md << " " << r.label << " | error |";
+  md << "\n|---|---|";
+  for (std::size_t k = 0; k < ref.published.size() + runs.size(); ++k) md << "---|---|";
+  md << "\n";
+  for (std::size_t k = 0; k < plates; ++k) {
+    const double exp = at(ref.experiment, k);
+    md << "| v" << k + 1 << " | " << velocity(exp) << " |";
+    csv << k + 1 << "," << velocity(exp);
+    for (const auto& [label, v] : ref.published) {
+      md << " " << velocity(at(v, k)) << " | " << error(at(v, k), exp) << " |";
+      csv << "," << velocity(at(v, k));
+    }
+    for (const ReportRun& r : runs) {
+      md << " " << velocity(at(r.residual, k)) << " | " << error(at(r.residual, k), exp) << " |";
+      csv << "," << velocity(at(r.residual, k));
+    }
+    md << "\n";
+    csv << "\n";
+  }
+
+  // Runs: settings, cost, energy budget.
+  std::ofstream runs_csv(out / "runs.csv");
+  runs_csv << "run,folder,mode,plastic_strain,resolution,elements,particles,steps,time_s,"
+              "wall_time_s,energy_balance,status\n";
+  md << "\n## Runs\n\n| run | elements | particles | steps | to t | wall time | energy "
+        "balance | status |\n|---|---|---|---|---|---|---|---|\n";
+  for (const ReportRun& r : runs) {
+    const double wall = summaryNumber(r, "wall_time_s");
+    char line[512];
+    std::snprintf(line, sizeof line, "| %s | %.0f | %.0f | %.0f | %.4g s | %.0f s | %.3g %% | %s |\n",
+                  r.label.c_str(), summaryNumber(r, "elements"), summaryNumber(r, "particles"),
+                  summaryNumber(r, "steps"), summaryNumber(r, "time"), wall,
+                  100 * summaryNumber(r, "energy_balance"),
+                  summaryString(r, "status", "no summary.toml").c_str());
+    md << line;
+    runs_csv << r.label << "," << r.dir.string() << ","
+             << summaryString(r, "conversion_mode", "") << ","
+             << summaryNumber(r, "plastic_strain") << "," << r.scene.resolution << ","
+             << summaryNumber(r, "elements") << "," << summaryNumber(r, "particles") << ","
+             << summaryNumber(r, "steps") << "," << summaryNumber(r, "time") << "," << wall << ","
+             << summaryNumber(r, "energy_balance") << ","
+             << summaryString(r, "status", "") << "\n";
+  }
+
+  // Velocity histories overlaid.
+  std::vector<std::pair<std::string, std::string>> curves;
+  for (const ReportRun& r : runs) curves.emplace_back(r.label, (r.dir / "history.csv").string());
+  ImageOptions o;
+  o.width = 1400;
+  o.height = 900;
+  renderVelocityPlot(curves, "", (out / "velocity.png").string(), o);
+  md << "\n## Projectile velocity\n\nMean velocity of the projectile body (elements and the "
+        "particles born from it), every run.\n\n![projectile velocity](velocity.png)\n";
+
+  // Plate images and holes of every run.
+  md << "\n## Plates\n\nFront and rear views at each run's last output, coloured by damage; "
+        "through-holes are outlined and measured from the geometry (holes.csv).\n";
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    md << "\n### " << runs[i].label << "\n\n";
+    for (const std::string& png : plateImages(runs[i], out, static_cast<int>(i + 1)))
+      md << "![" << fs::path(png).stem().string() << "](" << png << ")\n";
+    const auto holes = readCsv(out / ("run" + std::to_string(i + 1)) / "holes.csv");
+    if (holes.empty()) {
+      md << "\nNo through-holes.\n";
+      continue;
+    }
+    md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) |\n|---|---|---|---|\n";
+    for (const CsvRow& h : holes) {
+      char line[256];
+      std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.2f |\n", h.at("plate").c_str(),
+                    h.at("hole").c_str(), 1e6 * std::stod(h.at("area_m2")),
+                    1e3 * std::stod(h.at("diameter_m")));
+      md << line;
+    }
+  }
+  std::ofstream(out / "report.md") << md.str();
+}
+
+}  // namespace
+
+int reportCommand(const ReportOptions& opt) {
+  std::vector<ReportRun> runs;
+  try {
+    for (const std::string& dir : opt.run_dirs) runs.push_back(readRun(folder(dir)));
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  }
+  const fs::path out = opt.out.empty() ? runs.front().dir.parent_path() / "report"
+                                       : fs::path(opt.out);
+  try {
+    fs::create_directories(out);
+    writeReport(runs, out);
+  } catch (const RunError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const fs::filesystem_error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  std::printf("report: %s\n", (out / "report.md").string().c_str());
+  return 0;
+}
+
+}  // namespace fesph
