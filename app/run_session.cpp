@@ -75,7 +75,12 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
          << model_.step << std::endl;
   }
   crossings_ = std::make_unique<PlateCrossings>(saved.crossings, saved.crossings_projectile);
-  openWriters(true, saved);
+  // The series and histories go on in the checkpoint's own run folder; another folder gets
+  // fresh ones, starting at the checkpoint.
+  std::error_code ec;
+  const bool own =
+      out_folder.empty() || fs::equivalent(out_folder, parent.empty() ? "." : parent, ec);
+  openWriters(own, saved);
   started_ = true;
   output_index_ = saved.output_index;
   next_output_ = saved.next_output;

@@ -184,6 +184,18 @@ TEST_CASE("fesph run --restart continues the series and histories; SIGINT leaves
   requireSameOutputs(whole, split);
   REQUIRE(listCheckpoints(split.string()).size() == 3);
 
+  // Into another folder (twice: the second finds the first one's files): fresh series and
+  // histories there, from the checkpoint on, ending in the same state.
+  const fs::path other = dir.path / "other";
+  for (int k = 0; k < 2; ++k)
+    REQUIRE(shell(runCmd("--restart " + ckpts[1] + " --out " + other.string(),
+                         dir.path / "other.log")) == 0);
+  const auto lastLine = [](const std::string& text) {
+    return text.substr(text.rfind('\n', text.size() - 2) + 1);
+  };
+  REQUIRE(lastLine(slurp(other / "history.csv")) == lastLine(slurp(whole / "history.csv")));
+  REQUIRE(slurp(other / "history.csv").size() < slurp(whole / "history.csv").size());
+
   // Interrupted run: SIGINT once it has written a few history rows (5 steps a row).
   const std::string cmd = "exec " + runCmd(sceneRun(cut), dir.path / "cut.log");
   const pid_t pid = fork();
