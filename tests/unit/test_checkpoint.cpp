@@ -166,7 +166,7 @@ TEST_CASE("a run continued from a checkpoint is bit-identical to an unbroken run
   requireSameState(unbroken, continued);
 }
 
-TEST_CASE("fesph run --restart continues the series and histories; SIGINT leaves a checkpoint",
+TEST_CASE("fesph run --restart continues the series and histories, also after a SIGINT",
           "[unit][checkpoint]") {
   testing::TempFolder dir("restart_cli");
   const fs::path whole = dir.path / "whole", split = dir.path / "split", cut = dir.path / "cut";
