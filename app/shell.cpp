@@ -332,7 +332,12 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "DIR (default RUN_FOLDER/export/t_TIME). scene: the scene with its changes as TOML\n"
        "(comments dropped; msh paths and the material library are found from the new place).",
        &Workbench::exportCmd},
-      {"report", "report", "the run's report (fesph report)", "", &Workbench::report},
+      {"report", "report [RUN_DIR ...] [--out DIR]", "the report of this run (fesph report)",
+       "report.md: residual velocities against the scene's [reference], velocity histories,\n"
+       "wall times, plate images and holes. Default: the current run folder; more run folders\n"
+       "are compared with it. The run's summary.toml is written first (status complete,\n"
+       "paused or failed). Default DIR: beside the first run folder, report/.",
+       &Workbench::report},
       {"help", "help [COMMAND]", "list the commands, or explain one", "", &Workbench::help},
       {"quit", "quit", "leave the shell (also: exit, Ctrl-D)", "", &Workbench::quit},
       {"exit", "exit", "leave the shell", "", &Workbench::quit},
@@ -805,8 +810,25 @@ void Workbench::exportCmd(const std::vector<std::string>& a) {
   throw UsageError("usage: export state [DIR] | export scene FILE");
 }
 
-void Workbench::report(const std::vector<std::string>&) {
-  throw UsageError("report is not available yet: `fesph report` (issue #8) has not landed");
+void Workbench::report(const std::vector<std::string>& a) {
+  ReportOptions o;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k] == "--out" && k + 1 < a.size())
+      o.out = a[++k];
+    else if (a[k].rfind("--", 0) == 0)
+      throw UsageError("usage: report [RUN_DIR ...] [--out DIR]");
+    else
+      o.run_dirs.push_back(a[k]);
+  }
+  if (o.run_dirs.empty()) o.run_dirs.push_back(runFolder());
+  if (session_) {
+    // The report reads summary.toml; the shell's run has not ended, so say where it stands.
+    const RunSession& s = *session_;
+    s.writeSummary(s.folder() + "/summary.toml", !s.failure().empty() ? "failed"
+                                                 : s.complete()        ? "complete"
+                                                                       : "paused");
+  }
+  if (reportCommand(o) != 0) throw Reported();
 }
 
 void Workbench::help(const std::vector<std::string>& a) {

@@ -175,7 +175,9 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(r.out.find("error: unknown command 'bogus'") != std::string::npos);
   CHECK(r.out.find("nosuch") != std::string::npos);
   CHECK(r.out.find("error: plate 2: no such plate; the run has 1 = 'plate'") != std::string::npos);
-  CHECK(r.out.find("report is not available yet") != std::string::npos);
+  REQUIRE(r.out.find("report: " + (dir.path / "report" / "report.md").string()) != std::string::npos);
+  CHECK(slurp(out / "summary.toml").find("complete") != std::string::npos);
+  CHECK(slurp(dir.path / "report" / "report.md").find("run") != std::string::npos);
   // No prompt and no terminal control sequences from a pipe.
   CHECK(r.out.find("fesph>") == std::string::npos);
   CHECK(r.out.find('\x1b') == std::string::npos);
