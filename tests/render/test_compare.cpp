@@ -5,6 +5,7 @@
 #include "render/photo_compare.hpp"
 #include "render/series_writer.hpp"
 
+#include "core/common/error.hpp"
 #include "core/mesh/structured_box.hpp"
 #include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
@@ -16,6 +17,7 @@
 #include <vtkJPEGWriter.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
+#include <vtkPNGWriter.h>
 
 #include <cmath>
 #include <cstdio>
@@ -219,4 +221,33 @@ TEST_CASE("fesph compare: a half model is compared as the full plate", "[unit][r
   std::smatch m;
   REQUIRE(std::regex_search(json, m, std::regex("simulation_holes\": \\[\\{\"area_m2\": ([-0-9.eE+]+)")));
   CHECK(std::stod(m[1]) == Approx(112e-6).epsilon(0.02));
+}
+
+TEST_CASE("photographs: colour is read as luma, rows from the top, 16-bit scaled", "[unit][render]") {
+  TempFolder dir("photo_read");
+  for (const int type : {VTK_UNSIGNED_CHAR, VTK_UNSIGNED_SHORT}) {
+    const double full = type == VTK_UNSIGNED_CHAR ? 255 : 65535;
+    vtkNew<vtkImageData> img;
+    img->SetDimensions(4, 3, 1);
+    img->AllocateScalars(type, 3);
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) {
+        img->SetScalarComponentFromDouble(x, y, 0, 0, y == 2 ? full : 0);        // red top row
+        img->SetScalarComponentFromDouble(x, y, 0, 1, x == 1 ? full : 0);        // green column
+        img->SetScalarComponentFromDouble(x, y, 0, 2, std::round(0.5 * full));
+      }
+    const std::string path = (dir.path / ("rgb" + std::to_string(type) + ".png")).string();
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetInputData(img);
+    writer->SetFileName(path.c_str());
+    writer->Write();
+    const GrayImage g = readPhoto(path);
+    REQUIRE(g.width == 4);
+    REQUIRE(g.height == 3);
+    const double blue = 0.114 * std::round(0.5 * full) / full;
+    CHECK(g.at(0, 0) == Approx(0.299 + blue).margin(1e-6));  // VTK's top row is row 0 here
+    CHECK(g.at(1, 2) == Approx(0.587 + blue).margin(1e-6));
+    CHECK(g.at(2, 1) == Approx(blue).margin(1e-6));
+  }
+  CHECK_THROWS_AS(readPhoto((dir.path / "missing.png").string()), InputError);
 }
