@@ -130,7 +130,7 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
   const std::string run = (dir.path / "run").string();
   const std::string base = run + " --plate 1 --mm-per-px 0.08 --center 330,270";
 
-  SECTION("the matching photograph") {
+  {  // the matching photograph
     const Result r = runFesph("compare " + base + " --image " + (dir.path / "match.png").string());
     INFO(r.out);
     REQUIRE(r.code == 0);
@@ -160,7 +160,7 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     const auto* px = static_cast<const unsigned char*>(overlay->GetOutput()->GetScalarPointer(330, 560 - 1 - 270, 0));
     CHECK(int(px[1]) > int(px[0]) + 60);  // green at the plate's centre, in the hole
   }
-  SECTION("the hole 8 mm off, as a JPEG") {
+  {  // the hole 8 mm off, as a JPEG
     const GrayImage shifted = photograph(centre, 8, 0);
     vtkNew<vtkImageData> img;
     img->SetDimensions(shifted.width, shifted.height, 1);
@@ -189,7 +189,7 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     CHECK(jsonNumber(slurp(dir.path / "auto" / "plate_compare.json"), "iou") >= 0.9);
     CHECK(a.out.find("holes' centroids aligned") != std::string::npos);
   }
-  SECTION("bad input gets a clear error and exit code 2") {
+  {  // bad input gets a clear error and exit code 2
     const std::string photo = " --image " + (dir.path / "match.png").string();
     Result r = runFesph("compare " + run + " --plate 3 --mm-per-px 0.08" + photo);
     CHECK(r.code == 2);
