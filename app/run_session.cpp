@@ -63,8 +63,10 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   std::vector<std::string> all = saved.overrides;
   all.insert(all.end(), overrides.begin(), overrides.end());
   scene_ = loadSceneText(saved.scene_text, saved.scene_path, all, saved.material_library);
-  // The solver controls are part of the saved state; only the end time may move on.
-  model_.controls.end_time = scene_.controls.end_time;
+  // The solver controls follow the scene: the run's own unless new overrides change them (a
+  // later end time, a different dt floor). Materials and the state are the checkpoint's.
+  model_.controls = scene_.controls;
+  model_.sph.controls = scene_.sph;
   const fs::path parent = fs::path(checkpoint).parent_path();
   scene_.output.folder = !out_folder.empty() ? out_folder
                          : parent.empty()    ? std::string(".")

@@ -22,7 +22,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "fesph checkpoint";
-constexpr std::int64_t kFormatVersion = 1;
+// Bump with every change of what transfer() stores: an older file then gets a clear error.
+// 2: the SPH Verlet skin and last step's pair list and gradients.
+constexpr std::int64_t kFormatVersion = 2;
 
 // How an array element is laid out: `cols` numbers of type `Base`, contiguous.
 template <class T, class = void> struct Layout;

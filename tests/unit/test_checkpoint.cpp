@@ -342,6 +342,14 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
     }
     REQUIRE(error(other).find("not a fesph checkpoint") != std::string::npos);
   }
+  SECTION("a checkpoint of another format version") {
+    {
+      const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
+      h5::writeAttribute(f, "format_version", std::int64_t{1});
+    }
+    REQUIRE(error(good).find("checkpoint format version 1, this fesph reads version") !=
+            std::string::npos);
+  }
   SECTION("a checkpoint with an array missing") {
     {
       const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
