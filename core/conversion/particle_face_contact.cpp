@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
+#include <climits>
+#include <utility>
+#include <vector>
 
 namespace fesph {
 
@@ -18,10 +20,17 @@ double inverseMass(const Nodes& nd, int a) {
 
 // Uniform hash grid of the exterior faces' swept boxes (start and predicted end positions,
 // inflated by the largest contact radius and particle travel). A particle only needs the
-// faces of the cell its predicted position falls in.
+// faces of the cell its predicted position falls in. The cell follows the typical face (the
+// median longest edge), not the largest: a graded plate's coarse rim faces would otherwise
+// make cells that hold hundreds of the fine faces where the particles are. A face larger than
+// a cell is entered in every cell its box touches, so the candidates are the same faces in
+// the same (ascending) order whatever the cell size.
 struct FaceGrid {
   double cell = 0;
-  std::unordered_map<std::int64_t, std::vector<int>> cells;
+  /// (cell key, face) of the cells that hold a particle, sorted: the faces of a cell are a
+  /// contiguous run in ascending face order. Keys may collide (a hash): a collision only adds
+  /// candidates.
+  std::vector<std::pair<std::int64_t, int>> entries;
 
   static std::int64_t key(long i, long j, long k) {
     return (static_cast<std::int64_t>(i) * 73856093) ^ (static_cast<std::int64_t>(j) * 19349663) ^
@@ -31,17 +40,35 @@ struct FaceGrid {
     return key(std::lround(std::floor(p.x() / cell)), std::lround(std::floor(p.y() / cell)),
                std::lround(std::floor(p.z() / cell)));
   }
+  /// The faces entered in cell `k`, as [first, last) into `entries`.
+  std::pair<const std::pair<std::int64_t, int>*, const std::pair<std::int64_t, int>*> faces(
+      std::int64_t k) const {
+    const auto lo = std::lower_bound(entries.begin(), entries.end(), std::make_pair(k, INT_MIN));
+    auto hi = lo;
+    while (hi != entries.end() && hi->first == k) ++hi;
+    return {entries.data() + (lo - entries.begin()), entries.data() + (hi - entries.begin())};
+  }
 };
 
+// Only the cells that hold a particle's predicted position get entries: most faces of a
+// plate are far from every particle.
 FaceGrid buildGrid(const Model& model, double dt, double reach) {
   const Nodes& nd = model.nodes;
+  const Particles& pa = model.particles;
   const auto& faces = model.surfaces.exterior;
   FaceGrid g;
-  double largest = 0;
-  for (const ExteriorFace& f : faces)
+  std::vector<double> longest(faces.size(), 0.0);
+  for (std::size_t k = 0; k < faces.size(); ++k)
     for (int i = 0; i < 3; ++i)
-      largest = std::max(largest, (nd.x[f.node[i]] - nd.x[f.node[(i + 1) % 3]]).norm());
-  g.cell = std::max(largest, 2 * reach);
+      longest[k] = std::max(
+          longest[k], (nd.x[faces[k].node[i]] - nd.x[faces[k].node[(i + 1) % 3]]).norm());
+  std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
+  g.cell = std::max(longest[longest.size() / 2], 2 * reach);
+  std::vector<std::int64_t> occupied;
+  for (std::size_t p = 0; p < pa.size(); ++p)
+    if (!pa.tie[p].active()) occupied.push_back(g.keyOf(pa.x[p] + dt * pa.v[p]));
+  std::sort(occupied.begin(), occupied.end());
+  occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
   for (std::size_t k = 0; k < faces.size(); ++k) {
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     for (int a : faces[k].node) {
@@ -55,8 +82,15 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
     const long k0 = std::lround(std::floor(lo.z() / g.cell)), k1 = std::lround(std::floor(hi.z() / g.cell));
     for (long i = i0; i <= i1; ++i)
       for (long j = j0; j <= j1; ++j)
-        for (long l = k0; l <= k1; ++l) g.cells[FaceGrid::key(i, j, l)].push_back(static_cast<int>(k));
+        for (long l = k0; l <= k1; ++l) {
+          const std::int64_t key = FaceGrid::key(i, j, l);
+          if (std::binary_search(occupied.begin(), occupied.end(), key))
+            g.entries.emplace_back(key, static_cast<int>(k));
+        }
   }
+  std::sort(g.entries.begin(), g.entries.end());
+  // A box can enter the same key twice through a collision: keep each face once per key.
+  g.entries.erase(std::unique(g.entries.begin(), g.entries.end()), g.entries.end());
   return g;
 }
 
@@ -67,25 +101,43 @@ struct Hit {
   Vec3 bary = Vec3::Zero();
 };
 
-// The face particle p penetrates most at the end of the step, if any.
-Hit deepestHit(const Model& model, std::size_t p, const std::vector<int>& candidates, double dt) {
+// The faces of `candidates` that particle p can hit this step, judged on the positions at the
+// start of the step, which the passes do not change: the particle projects onto the face and
+// is not already behind it (a particle behind a face crossed elsewhere).
+void viableFaces(const Model& model, std::size_t p, const FaceGrid& grid, std::int64_t cell,
+                 std::vector<int>& out) {
+  const Nodes& nd = model.nodes;
+  const Particles& pa = model.particles;
+  const auto& faces = model.surfaces.exterior;
+  const double radius = kParticleContactRadius * std::cbrt(pa.V[p]);
+  const auto [first, last] = grid.faces(cell);
+  for (auto e = first; e != last; ++e) {
+    const int k = e->second;
+    const ExteriorFace& f = faces[k];
+    FaceProjection now;
+    if (projectOnFace(pa.x[p], nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], now) &&
+        now.distance >= -radius)
+      out.push_back(k);
+  }
+}
+
+// The face particle p penetrates most at the end of the step, if any, among its viable faces.
+Hit deepestHit(const Model& model, std::size_t p, const int* viable, const int* viable_end,
+               double dt) {
   const Nodes& nd = model.nodes;
   const Particles& pa = model.particles;
   const auto& faces = model.surfaces.exterior;
   const double radius = kParticleContactRadius * std::cbrt(pa.V[p]);
   const Vec3 xp = pa.x[p] + dt * pa.v[p];
   Hit best;
-  for (int k : candidates) {
-    const ExteriorFace& f = faces[k];
+  for (const int* it = viable; it != viable_end; ++it) {
+    const ExteriorFace& f = faces[*it];
     Vec3 xe[3], x0[3];
     for (int i = 0; i < 3; ++i) x0[i] = nd.x[f.node[i]], xe[i] = x0[i] + dt * nd.v[f.node[i]];
     FaceProjection now, end;
-    if (!projectOnFace(pa.x[p], x0[0], x0[1], x0[2], now) ||
-        !projectOnFace(xp, xe[0], xe[1], xe[2], end))
-      continue;
-    // It must start in front of the face (a particle already behind it crossed elsewhere)
-    // and end within the face's extent.
-    if (now.distance < -radius) continue;
+    projectOnFace(pa.x[p], x0[0], x0[1], x0[2], now);
+    if (!projectOnFace(xp, xe[0], xe[1], xe[2], end)) continue;
+    // It must end within the face's extent.
     if (end.bary.minCoeff() < -0.05) continue;
     // A particle already inside its radius (born next to faces, or left there by earlier
     // steps) is only kept from coming closer: pushing it out in one step would need a velocity
@@ -94,7 +146,7 @@ Hit deepestHit(const Model& model, std::size_t p, const std::vector<int>& candid
     const double delta =
         now.distance >= radius ? radius - end.distance : now.distance - end.distance;
     if (delta <= 0 || delta <= best.delta) continue;
-    best = Hit{k, delta, end.normal, clampBary(end.bary)};
+    best = Hit{*it, delta, end.normal, clampBary(end.bary)};
   }
   return best;
 }
@@ -111,16 +163,23 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   for (std::size_t p = 0; p < pa.size(); ++p)
     reach = std::max(reach, kParticleContactRadius * std::cbrt(pa.V[p]) + dt * pa.v[p].norm());
   const FaceGrid grid = buildGrid(model, dt, reach);
-  static const std::vector<int> none;
+  // The grid cell of a particle is the one of its predicted position before the passes (the
+  // corrections are far smaller than a cell), so its viable faces are found once.
+  std::vector<std::size_t> offset(pa.size() + 1, 0);
+  std::vector<int> viable;
+  for (std::size_t p = 0; p < pa.size(); ++p) {
+    if (!pa.tie[p].active()) viableFaces(model, p, grid, grid.keyOf(pa.x[p] + dt * pa.v[p]), viable);
+    offset[p + 1] = viable.size();
+  }
 
   for (int k = 1; k <= passes; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
     bool any = false;
     // Sequential in particle order: particles share face nodes, the order must be fixed.
     for (std::size_t p = 0; p < pa.size(); ++p) {
-      if (pa.tie[p].active()) continue;
-      const auto it = grid.cells.find(grid.keyOf(pa.x[p] + dt * pa.v[p]));
-      const Hit hit = deepestHit(model, p, it == grid.cells.end() ? none : it->second, dt);
+      if (offset[p + 1] == offset[p]) continue;
+      const Hit hit =
+          deepestHit(model, p, viable.data() + offset[p], viable.data() + offset[p + 1], dt);
       if (hit.face < 0) continue;
       const ExteriorFace& f = faces[hit.face];
       double denom = 1.0 / pa.m[p];
