@@ -8,12 +8,14 @@
 //   BM_SphForces     computeParticleForces at ~55 neighbours (Verlet list amortised)
 //   BM_Neighbours    SPH neighbour build from scratch (cell grid)
 //   BM_ContactPass   node-face contact: broad phase + 3 correction passes
-//   BM_ImpactStep    full step of a projectile in a plate (~200k tets at the middle size),
+//   BM_ImpactStep    full step of a projectile in a plate (~190k tets at the middle size),
 //                    contact and erosion (mode 1) or FE -> SPH conversion (mode 2)
+//   BM_FourPlates    full step of scenes/four_plates_normal (quick and default resolutions)
 #include "core/contact/node_face_contact.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/material/library.hpp"
 #include "core/mesh/structured_box.hpp"
+#include "core/scene/scene.hpp"
 #include "core/solver/figures_of_merit.hpp"
 #include "core/solver/step.hpp"
 #include "core/state/model_build.hpp"
@@ -156,7 +158,7 @@ void BM_Neighbours(benchmark::State& state) {
 
 // A steel 1020 projectile (square section 10 mm, 20 mm long) at 1300 m/s, its nose 0.1 mm
 // over an A36 plate (40 x 40 x 3.5 mm), both structured; n sets the cells per 10 mm.
-// n = 10: 58k tets, n = 16: 218k, n = 20: 416k (the plate holds 6 (4n)^2 (0.35 n) tets).
+// About 45 n^3 tets: n = 10: 46k, n = 16: 190k, n = 20: 365k.
 Model impact(int n, ConversionMode mode) {
   Model m;
   m.materials.push_back(library().get("steel_1020"));
@@ -203,6 +205,21 @@ void BM_ImpactStep(benchmark::State& state) {
   countMemory(state, m);
 }
 
+// The four-plate scene meshed at a resolution preset, early in the impact on plate 1.
+void BM_FourPlates(benchmark::State& state) {
+  setThreads(state, 1);
+  const char* preset = state.range(0) == 0 ? "quick" : "default";
+  const Scene scene =
+      loadScene(std::string(FESPH_SOURCE_DIR) + "/scenes/four_plates_normal/scene.toml",
+                {std::string("resolution=\"") + preset + "\""});
+  Model m = buildModel(scene);
+  while (m.time < 2e-6) step(m, 1.0);  // the nose (1 mm out at 1300 m/s) 1.2 us into plate 1
+  for (auto _ : state) step(m, 1.0);
+  countItems(state, "elements", static_cast<double>(m.elems.size()));
+  state.counters["particles"] = static_cast<double>(m.particles.size());
+  countMemory(state, m);
+}
+
 }  // namespace
 
 BENCHMARK(BM_Stream)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)
@@ -220,5 +237,9 @@ BENCHMARK(BM_ContactPass)->ArgsProduct({{10, 16, 20}, {1, 2}})->ArgNames({"n", "
 // mode 1: erosion (FE only), 2: FE -> SPH conversion
 BENCHMARK(BM_ImpactStep)->ArgsProduct({{10, 16, 20}, {1, 2}, {1, 2}})
     ->ArgNames({"n", "mode", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// resolution 0: quick, 1: default
+BENCHMARK(BM_FourPlates)->ArgsProduct({{0, 1}, {1, 2}})->ArgNames({"resolution", "threads"})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -40,10 +40,7 @@ void convertElement(Model& model, std::size_t e, double kappa, Trigger why) {
 long convertElements(Model& model, double kappa) {
   long count = 0;
   const std::size_t first_new = model.particles.size();
-  for (std::size_t e = 0; e < model.elems.size(); ++e) {
-    if (model.elems.status[e] != ElemStatus::Live) continue;
-    const Trigger why = elementTrigger(model, e);
-    if (why == Trigger::None) continue;
+  for (const auto& [e, why] : triggeredElements(model)) {
     convertElement(model, e, kappa, why);
     ++count;
   }

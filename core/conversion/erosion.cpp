@@ -35,10 +35,7 @@ void erodeElement(Model& model, std::size_t e, Trigger why) {
 
 long erodeElements(Model& model) {
   long count = 0;
-  for (std::size_t e = 0; e < model.elems.size(); ++e) {
-    if (model.elems.status[e] != ElemStatus::Live) continue;
-    const Trigger why = elementTrigger(model, e);
-    if (why == Trigger::None) continue;
+  for (const auto& [e, why] : triggeredElements(model)) {
     erodeElement(model, e, why);
     ++count;
   }

@@ -15,4 +15,17 @@ Trigger elementTrigger(const Model& model, std::size_t e) {
   return Trigger::None;
 }
 
+std::vector<std::pair<std::size_t, Trigger>> triggeredElements(const Model& model) {
+  const Elements& el = model.elems;
+  const long ne = static_cast<long>(el.size());
+  std::vector<Trigger> why(el.size(), Trigger::None);
+#pragma omp parallel for schedule(static)
+  for (long e = 0; e < ne; ++e)
+    if (el.status[e] == ElemStatus::Live) why[e] = elementTrigger(model, e);
+  std::vector<std::pair<std::size_t, Trigger>> out;
+  for (std::size_t e = 0; e < el.size(); ++e)
+    if (why[e] != Trigger::None) out.emplace_back(e, why[e]);
+  return out;
+}
+
 }  // namespace fesph

@@ -5,6 +5,9 @@
 
 #include "core/state/model.hpp"
 
+#include <utility>
+#include <vector>
+
 namespace fesph {
 
 enum class Trigger { None, PlasticStrain, Damage, Safety };
@@ -13,6 +16,10 @@ enum class Trigger { None, PlasticStrain, Damage, Safety };
 /// last material update: eps_p, damage, V/V0 and the smallest altitude (the geometric part of
 /// the stable step) against its first value.
 Trigger elementTrigger(const Model& model, std::size_t e);
+
+/// Every live element whose trigger fires now, ascending, with its trigger. The triggers are
+/// evaluated in parallel (each reads only its own element), the list is in element order.
+std::vector<std::pair<std::size_t, Trigger>> triggeredElements(const Model& model);
 
 /// Count a conversion or erosion under its trigger (plastic strain is the rest).
 inline void countTrigger(ConversionStats& stats, Trigger why) {
