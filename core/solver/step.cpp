@@ -22,6 +22,10 @@ namespace fesph {
 
 namespace {
 
+/// Loops shorter than this run on one thread: a parallel region costs microseconds, and far
+/// more on a loaded machine, where every barrier waits for a core.
+constexpr long kParallelMin = 2048;
+
 struct KineticSums {
   double energy = 0;
   Vec3 momentum = Vec3::Zero();
@@ -113,15 +117,15 @@ double stableTimeStep(Model& model, double t_stop) {
   const Particles& pa = model.particles;
   const long ne = static_cast<long>(el.size()), np = static_cast<long>(pa.size());
   double dt_elem = std::numeric_limits<double>::infinity(), dt_part = dt_elem;
-#pragma omp parallel for schedule(static) reduction(min : dt_elem)
+#pragma omp parallel for schedule(static) reduction(min : dt_elem) if (ne > kParallelMin)
   for (long e = 0; e < ne; ++e)
     if (el.status[e] == ElemStatus::Live) dt_elem = std::min(dt_elem, el.dt[e]);
-#pragma omp parallel for schedule(static) reduction(min : dt_part)
+#pragma omp parallel for schedule(static) reduction(min : dt_part) if (np > kParallelMin)
   for (long i = 0; i < np; ++i) dt_part = std::min(dt_part, pa.dt[i]);
   const bool by_particle = dt_part < dt_elem;
   const double dt_min = by_particle ? dt_part : dt_elem;
   long first = by_particle ? np : ne;
-#pragma omp parallel for schedule(static) reduction(min : first)
+#pragma omp parallel for schedule(static) reduction(min : first) if (ne + np > kParallelMin)
   for (long k = 0; k < (by_particle ? np : ne); ++k) {
     const bool hit = by_particle ? pa.dt[k] == dt_min
                                  : el.status[k] == ElemStatus::Live && el.dt[k] == dt_min;
@@ -194,23 +198,23 @@ void recordEnergyBudget(Model& model, double dissipated) {
 
 void integrateVelocities(Model& model, double dt_avg) {
   Nodes& nd = model.nodes;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nd.size() > kParallelMin)
   for (std::size_t a = 0; a < nd.size(); ++a) {
     if (nd.m[a] > 0) nd.v[a] += (dt_avg / nd.m[a]) * nd.f[a];
   }
   Particles& pa = model.particles;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (pa.size() > kParallelMin)
   for (std::size_t i = 0; i < pa.size(); ++i) pa.v[i] += (dt_avg / pa.m[i]) * pa.f[i];
 }
 
 void integratePositions(Model& model, double dt) {
   Nodes& nd = model.nodes;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nd.size() > kParallelMin)
   for (std::size_t a = 0; a < nd.size(); ++a) {
     if (nd.m[a] > 0) nd.x[a] += dt * nd.v[a];
   }
   Particles& pa = model.particles;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (pa.size() > kParallelMin)
   for (std::size_t i = 0; i < pa.size(); ++i) pa.x[i] += dt * pa.v[i];
 }
 
