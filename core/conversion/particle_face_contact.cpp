@@ -32,9 +32,13 @@ struct FaceGrid {
   /// candidates.
   std::vector<std::pair<std::int64_t, int>> entries;
 
+  // Unsigned arithmetic: the hash wraps instead of overflowing (undefined behaviour) for
+  // far or non-finite positions, which the solver's non-finite check reports after the step.
   static std::int64_t key(long i, long j, long k) {
-    return (static_cast<std::int64_t>(i) * 73856093) ^ (static_cast<std::int64_t>(j) * 19349663) ^
-           (static_cast<std::int64_t>(k) * 83492791);
+    const std::uint64_t h = (static_cast<std::uint64_t>(i) * 73856093u) ^
+                            (static_cast<std::uint64_t>(j) * 19349663u) ^
+                            (static_cast<std::uint64_t>(k) * 83492791u);
+    return static_cast<std::int64_t>(h);
   }
   std::int64_t keyOf(const Vec3& p) const {
     return key(std::lround(std::floor(p.x() / cell)), std::lround(std::floor(p.y() / cell)),

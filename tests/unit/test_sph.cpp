@@ -167,7 +167,7 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles drift an
   CHECK(search.verletBuilds() < calls / 3);
 }
 
-TEST_CASE("sph free body conserves momentum and energy; forces independent of threads",
+TEST_CASE("sph free body conserves momentum and energy, forces independent of threads",
           "[unit][sph]") {
   // Reference: the anti-symmetric pair forces give f_ij = -f_ji, so the momentum of a free
   // body is constant to round-off (1e-12 of sum m|v|, through fesph::step). The forces are
