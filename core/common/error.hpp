@@ -3,6 +3,7 @@
 // RunError reports a failed run with where it stopped (exit code 1).
 #pragma once
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -34,5 +35,12 @@ class RunError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// A time for a message, "1.23456789e-05 s": std::to_string would print 0.000012.
+inline std::string seconds(double t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g s", t);
+  return buf;
+}
 
 }  // namespace fesph

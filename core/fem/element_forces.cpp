@@ -27,8 +27,8 @@ struct Corners {
 [[noreturn]] void invertedElement(const Model& model, std::size_t e) {
   const Body& b = model.bodies[model.elems.body[e]];
   throw RunError("element " + std::to_string(e) + " of body '" + b.name +
-                 "' inverted at t = " + std::to_string(model.time) +
-                 " s (no conversion or erosion mode to catch it)");
+                 "' inverted at t = " + seconds(model.time) +
+                 " (no conversion or erosion mode to catch it)");
 }
 
 // Pass A: strain rate at the midpoint configuration of the last interval, deviatoric update,

@@ -48,12 +48,6 @@ KineticSums kineticSums(const Model& model) {
   return {n[0] + p[0], Vec3(n[1] + p[1], n[2] + p[2], n[3] + p[3])};
 }
 
-std::string seconds(double t) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g s", t);
-  return buf;
-}
-
 const char* nonFiniteQuantity(const Vec3& x, const Vec3& v, const Vec3& f) {
   return !x.allFinite() ? "position" : !v.allFinite() ? "velocity" : !f.allFinite() ? "force" : nullptr;
 }
