@@ -17,6 +17,14 @@ int findRoot(std::vector<int>& parent, int a) {
 
 }  // namespace
 
+double bodyInitialMass(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  double m = 0;
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e)
+    m += model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
+  return m;
+}
+
 std::vector<Piece> bodyPieces(const Model& model, int body) {
   const Body& b = model.bodies[body];
   const Elements& el = model.elems;
@@ -59,10 +67,7 @@ ResidualVelocity residualVelocity(const Model& model, int body) {
   const Piece& p = pieces.front();
   r.velocity = p.velocity;
   r.speed = p.velocity.norm();
-  const Body& b = model.bodies[body];
-  double initial_mass = 0;
-  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e)
-    initial_mass += model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
+  const double initial_mass = bodyInitialMass(model, body);
   r.mass_fraction = initial_mass > 0 ? p.mass / initial_mass : 0.0;
   if (!(r.speed > 0)) return r;
   const Vec3 dir = p.velocity / r.speed;

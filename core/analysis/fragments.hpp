@@ -17,6 +17,9 @@ struct Piece {
   std::vector<int> nodes;       ///< node ids, ascending
 };
 
+/// Mass of `body` as built (rho0 V0 summed over all its elements, whatever their status), kg.
+double bodyInitialMass(const Model& model, int body);
+
 /// The pieces of `body`, largest mass first.
 std::vector<Piece> bodyPieces(const Model& model, int body);
 

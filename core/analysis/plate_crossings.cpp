@@ -19,12 +19,13 @@ double leadingDepth(const Model& model, const PlateCrossing& p, const std::vecto
   return depth;
 }
 
-double projectileMass0(const Model& model, int body) {
+// The same over the live (massive) nodes of `body`; -infinity when it has none.
+double bodyLeadingDepth(const Model& model, const PlateCrossing& p, int body) {
   const Body& b = model.bodies[body];
-  double m = 0;
-  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e)
-    m += model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
-  return m;
+  double depth = -std::numeric_limits<double>::infinity();
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a)
+    if (model.nodes.m[a] > 0) depth = std::max(depth, -(model.nodes.x[a] - p.front).dot(p.normal));
+  return depth;
 }
 
 }  // namespace
@@ -81,23 +82,18 @@ PlateCrossings::PlateCrossings(std::vector<PlateCrossing> plates, int projectile
 
 void PlateCrossings::update(const Model& model) {
   if (projectile_ < 0 || next_ >= plates_.size()) return;
-  const Body& pb = model.bodies[projectile_];
-  std::vector<int> live;
-  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a)
-    if (model.nodes.m[a] > 0) live.push_back(static_cast<int>(a));
-  if (live.empty()) return;
   for (PlateCrossing& p : plates_)
-    if (p.t_contact < 0 && leadingDepth(model, p, live) >= 0) p.t_contact = model.time;
+    if (p.t_contact < 0 && bodyLeadingDepth(model, p, projectile_) >= 0) p.t_contact = model.time;
   // Any live node past the measuring plane: is it the largest piece's?
   while (next_ < plates_.size()) {
     PlateCrossing& p = plates_[next_];
-    if (leadingDepth(model, p, live) < p.measure_depth) return;
+    if (bodyLeadingDepth(model, p, projectile_) < p.measure_depth) return;
     const std::vector<Piece> pieces = bodyPieces(model, projectile_);
     if (pieces.empty() || leadingDepth(model, p, pieces.front().nodes) < p.measure_depth) return;
     p.t_measured = model.time;
     p.velocity = pieces.front().velocity;
     p.speed = p.velocity.norm();
-    const double m0 = projectileMass0(model, projectile_);
+    const double m0 = bodyInitialMass(model, projectile_);
     p.mass_fraction = m0 > 0 ? pieces.front().mass / m0 : 0.0;
     ++next_;
   }
