@@ -108,8 +108,14 @@ struct Hit {
 // The faces of `candidates` that particle p can hit this step, judged on the positions at the
 // start of the step, which the passes do not change: the particle projects onto the face and
 // is not already behind it (a particle behind a face crossed elsewhere).
+// Each comes with the particle's distance to it then, which the passes reuse.
+struct Viable {
+  int face;
+  double distance;  ///< m, from the face's plane at the start of the step
+};
+
 void viableFaces(const Model& model, std::size_t p, const FaceGrid& grid, std::int64_t cell,
-                 std::vector<int>& out) {
+                 std::vector<Viable>& out) {
   const Nodes& nd = model.nodes;
   const Particles& pa = model.particles;
   const auto& faces = model.surfaces.exterior;
@@ -121,12 +127,12 @@ void viableFaces(const Model& model, std::size_t p, const FaceGrid& grid, std::i
     FaceProjection now;
     if (projectOnFace(pa.x[p], nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], now) &&
         now.distance >= -radius)
-      out.push_back(k);
+      out.push_back({k, now.distance});
   }
 }
 
 // The face particle p penetrates most at the end of the step, if any, among its viable faces.
-Hit deepestHit(const Model& model, std::size_t p, const int* viable, const int* viable_end,
+Hit deepestHit(const Model& model, std::size_t p, const Viable* viable, const Viable* viable_end,
                double dt) {
   const Nodes& nd = model.nodes;
   const Particles& pa = model.particles;
@@ -134,12 +140,11 @@ Hit deepestHit(const Model& model, std::size_t p, const int* viable, const int* 
   const double radius = kParticleContactRadius * std::cbrt(pa.V[p]);
   const Vec3 xp = pa.x[p] + dt * pa.v[p];
   Hit best;
-  for (const int* it = viable; it != viable_end; ++it) {
-    const ExteriorFace& f = faces[*it];
-    Vec3 xe[3], x0[3];
-    for (int i = 0; i < 3; ++i) x0[i] = nd.x[f.node[i]], xe[i] = x0[i] + dt * nd.v[f.node[i]];
-    FaceProjection now, end;
-    projectOnFace(pa.x[p], x0[0], x0[1], x0[2], now);
+  for (const Viable* it = viable; it != viable_end; ++it) {
+    const ExteriorFace& f = faces[it->face];
+    Vec3 xe[3];
+    for (int i = 0; i < 3; ++i) xe[i] = nd.x[f.node[i]] + dt * nd.v[f.node[i]];
+    FaceProjection end;
     if (!projectOnFace(xp, xe[0], xe[1], xe[2], end)) continue;
     // It must end within the face's extent.
     if (end.bary.minCoeff() < -0.05) continue;
@@ -148,9 +153,9 @@ Hit deepestHit(const Model& model, std::size_t p, const int* viable, const int* 
     // of overlap/dt and throw it away.
     if (end.distance >= radius) continue;
     const double delta =
-        now.distance >= radius ? radius - end.distance : now.distance - end.distance;
+        it->distance >= radius ? radius - end.distance : it->distance - end.distance;
     if (delta <= 0 || delta <= best.delta) continue;
-    best = Hit{*it, delta, end.normal, clampBary(end.bary)};
+    best = Hit{it->face, delta, end.normal, clampBary(end.bary)};
   }
   return best;
 }
@@ -170,7 +175,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // The grid cell of a particle is the one of its predicted position before the passes (the
   // corrections are far smaller than a cell), so its viable faces are found once.
   std::vector<std::size_t> offset(pa.size() + 1, 0);
-  std::vector<int> viable;
+  std::vector<Viable> viable;
   for (std::size_t p = 0; p < pa.size(); ++p) {
     if (!pa.tie[p].active()) viableFaces(model, p, grid, grid.keyOf(pa.x[p] + dt * pa.v[p]), viable);
     offset[p + 1] = viable.size();
