@@ -178,7 +178,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
           std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       element_steps_ += static_cast<double>(liveElements(model_));
       crossings_->update(model_);
-      if (model_.step % scene_.output.history_every == 1) recordHistory();
+      if ((model_.step - 1) % scene_.output.history_every == 0) recordHistory();  // 1, 1+n, ...
       if (reached(model_.time, t_stop)) {
         if (t_stop == next_output_ || complete()) {
           writeOutput();

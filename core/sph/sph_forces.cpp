@@ -120,6 +120,20 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   ws.velocity_grad_prev[i] = Gp * prev.B[i];
 }
 
+/// A fully damaged particle takes no tension (eosPressure), so its neighbours moving apart open
+/// a crack rather than stretch the metal. Continuity alone would let its volume grow without
+/// bound as the fragments separate (densities of 1 kg/m^3 and 5 mm smoothing lengths were seen
+/// behind a plate), and with it the smoothing length, the contact radius and the wave speed
+/// sqrt(K / rho) that sets the time step. The volume of a failed particle therefore stops
+/// growing at rho = 0.9 rho0: room for the ~2 % thermal expansion of steel heated by some
+/// hundred kelvin, and far enough from rho0 that the pressure there is 0 (rho0 c0^2 eta =
+/// -0.1 rho0 c0^2 outweighs Gamma0 rho0 e), so the cap does no work.
+constexpr double kFailedMinDensityRatio = 0.9;
+
+double failedVolumeCap(const Material& mat, double mass) {
+  return mass / (kFailedMinDensityRatio * mat.rho0);
+}
+
 /// Pass 2 for particle i over the last interval dt, as the elements do it: Jaumann /
 /// Johnson-Cook / damage update with the centred rate, volume from the continuity equation,
 /// trapezoidal stress work and one predictor-corrector on the EOS pressure with energy. The
@@ -142,7 +156,8 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   const Sym s_old = st.s;
   const double wp = updateDeviatoricStress(mat, D, W, dt, pa.rho[i], st);
   // dV/dt = V tr(D), integrated exactly for a constant rate: V stays positive
-  const double V_new = Vc * std::exp(D.trace() * dt);
+  double V_new = Vc * std::exp(D.trace() * dt);
+  if (st.damage >= 1.0) V_new = std::min(V_new, std::max(Vc, failedVolumeCap(mat, mass)));
   pa.V[i] = V_new;
   pa.rho[i] = mass / V_new;
   pa.h[i] *= std::cbrt(V_new / Vc);  // h follows density: h = h0 (rho0 / rho)^(1/3)

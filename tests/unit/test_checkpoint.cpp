@@ -232,9 +232,11 @@ TEST_CASE("a run stopped by its time step floor names the cause and keeps valid 
           "[unit][checkpoint]") {
   testing::TempFolder dir("dt_floor");
   const fs::path out = dir.path / "run";
-  // The floor is crossed near t = 2 us, after the checkpoints at 0.5, 1.0 and 1.5 us.
+  // The step falls from 16.5 ns to 6.5 ns when the first particle appears, near t = 0.33 us,
+  // after the checkpoints at 0.1, 0.2 and 0.3 us and the outputs at 0 and 0.2 us.
   const std::string args = kScene + " --materials " + kLibrary + " --out " + out.string() +
-                           " --set simulation.dt_min=6e-9 --set output.checkpoint_interval=0.5e-6";
+                           " --set simulation.dt_min=8e-9 --set output.checkpoint_interval=0.1e-6"
+                           " --set output.interval=0.2e-6";
   REQUIRE(shell(runCmd(args, dir.path / "log")) == 1);
   const std::string log = slurp(dir.path / "log");
   INFO(log);
