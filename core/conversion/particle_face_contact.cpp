@@ -10,6 +10,10 @@
 #include <utility>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace fesph {
 
 namespace {
@@ -54,44 +58,109 @@ struct FaceGrid {
   }
 };
 
+int threadCount() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+int threadId() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+// Below this many items a loop runs on one thread: forking costs more than it saves. Low
+// enough that the determinism test's few dozen particles split over the threads.
+constexpr long kParallelMin = 32;
+
+// The occupied cell keys, sorted, with a bitmap of their low bits in front: most cells a face
+// box touches hold no particle, and one bit test answers that without the binary search.
+class KeySet {
+ public:
+  explicit KeySet(std::vector<std::int64_t> keys) : keys_(std::move(keys)) {
+    std::sort(keys_.begin(), keys_.end());
+    keys_.erase(std::unique(keys_.begin(), keys_.end()), keys_.end());
+    std::size_t bits = 64;
+    while (bits < 16 * keys_.size()) bits <<= 1;  // at most 1 bit in 16 set
+    mask_ = bits - 1;
+    bitmap_.assign(bits / 64, 0);
+    for (std::int64_t k : keys_) {
+      const std::uint64_t b = static_cast<std::uint64_t>(k) & mask_;
+      bitmap_[b / 64] |= std::uint64_t{1} << (b % 64);
+    }
+  }
+  bool contains(std::int64_t k) const {
+    const std::uint64_t b = static_cast<std::uint64_t>(k) & mask_;
+    return (bitmap_[b / 64] >> (b % 64) & 1) != 0 &&
+           std::binary_search(keys_.begin(), keys_.end(), k);
+  }
+
+ private:
+  std::vector<std::int64_t> keys_;
+  std::vector<std::uint64_t> bitmap_;
+  std::uint64_t mask_ = 0;
+};
+
 // Only the cells that hold a particle's predicted position get entries: most faces of a
-// plate are far from every particle.
+// plate are far from every particle. Faces are entered in parallel; the final sort makes the
+// entries independent of the thread count.
 FaceGrid buildGrid(const Model& model, double dt, double reach) {
   const Nodes& nd = model.nodes;
   const Particles& pa = model.particles;
   const auto& faces = model.surfaces.exterior;
+  const long nf = static_cast<long>(faces.size()), np = static_cast<long>(pa.size());
   FaceGrid g;
   std::vector<double> longest(faces.size(), 0.0);
-  for (std::size_t k = 0; k < faces.size(); ++k)
+#pragma omp parallel for schedule(static) if (nf > kParallelMin)
+  for (long k = 0; k < nf; ++k)
     for (int i = 0; i < 3; ++i)
       longest[k] = std::max(
           longest[k], (nd.x[faces[k].node[i]] - nd.x[faces[k].node[(i + 1) % 3]]).norm());
   std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
   g.cell = std::max(longest[longest.size() / 2], 2 * reach);
-  std::vector<std::int64_t> occupied;
-  for (std::size_t p = 0; p < pa.size(); ++p)
-    if (!pa.tie[p].active()) occupied.push_back(g.keyOf(pa.x[p] + dt * pa.v[p]));
-  std::sort(occupied.begin(), occupied.end());
-  occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
-  for (std::size_t k = 0; k < faces.size(); ++k) {
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    for (int a : faces[k].node) {
-      lo = lo.cwiseMin(nd.x[a]).cwiseMin(nd.x[a] + dt * nd.v[a]);
-      hi = hi.cwiseMax(nd.x[a]).cwiseMax(nd.x[a] + dt * nd.v[a]);
-    }
-    lo.array() -= reach;
-    hi.array() += reach;
-    const long i0 = std::lround(std::floor(lo.x() / g.cell)), i1 = std::lround(std::floor(hi.x() / g.cell));
-    const long j0 = std::lround(std::floor(lo.y() / g.cell)), j1 = std::lround(std::floor(hi.y() / g.cell));
-    const long k0 = std::lround(std::floor(lo.z() / g.cell)), k1 = std::lround(std::floor(hi.z() / g.cell));
-    for (long i = i0; i <= i1; ++i)
-      for (long j = j0; j <= j1; ++j)
-        for (long l = k0; l <= k1; ++l) {
-          const std::int64_t key = FaceGrid::key(i, j, l);
-          if (std::binary_search(occupied.begin(), occupied.end(), key))
-            g.entries.emplace_back(key, static_cast<int>(k));
-        }
+  std::vector<std::int64_t> cell_of(pa.size());
+  std::vector<char> untied(pa.size());
+#pragma omp parallel for schedule(static) if (np > kParallelMin)
+  for (long p = 0; p < np; ++p) {
+    untied[p] = !pa.tie[p].active();
+    if (untied[p]) cell_of[p] = g.keyOf(pa.x[p] + dt * pa.v[p]);
   }
+  std::vector<std::int64_t> keys;
+  for (long p = 0; p < np; ++p)
+    if (untied[p]) keys.push_back(cell_of[p]);
+  const KeySet occupied(std::move(keys));
+
+  std::vector<std::vector<std::pair<std::int64_t, int>>> parts;
+#pragma omp parallel if (nf > kParallelMin)
+  {
+#pragma omp single
+    parts.resize(static_cast<std::size_t>(threadCount()));
+    std::vector<std::pair<std::int64_t, int>>& mine = parts[static_cast<std::size_t>(threadId())];
+#pragma omp for schedule(static)
+    for (long k = 0; k < nf; ++k) {
+      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+      for (int a : faces[k].node) {
+        lo = lo.cwiseMin(nd.x[a]).cwiseMin(nd.x[a] + dt * nd.v[a]);
+        hi = hi.cwiseMax(nd.x[a]).cwiseMax(nd.x[a] + dt * nd.v[a]);
+      }
+      lo.array() -= reach;
+      hi.array() += reach;
+      const long i0 = std::lround(std::floor(lo.x() / g.cell)), i1 = std::lround(std::floor(hi.x() / g.cell));
+      const long j0 = std::lround(std::floor(lo.y() / g.cell)), j1 = std::lround(std::floor(hi.y() / g.cell));
+      const long k0 = std::lround(std::floor(lo.z() / g.cell)), k1 = std::lround(std::floor(hi.z() / g.cell));
+      for (long i = i0; i <= i1; ++i)
+        for (long j = j0; j <= j1; ++j)
+          for (long l = k0; l <= k1; ++l) {
+            const std::int64_t key = FaceGrid::key(i, j, l);
+            if (occupied.contains(key)) mine.emplace_back(key, static_cast<int>(k));
+          }
+    }
+  }
+  for (const auto& part : parts) g.entries.insert(g.entries.end(), part.begin(), part.end());
   std::sort(g.entries.begin(), g.entries.end());
   // A box can enter the same key twice through a collision: keep each face once per key.
   g.entries.erase(std::unique(g.entries.begin(), g.entries.end()), g.entries.end());
@@ -160,50 +229,99 @@ Hit deepestHit(const Model& model, std::size_t p, const Viable* viable, const Vi
   return best;
 }
 
+// The impulse of `hit` on particle p and the face's nodes.
+void applyHit(Model& model, std::size_t p, const Hit& hit, double alpha, double dt) {
+  Particles& pa = model.particles;
+  Nodes& nd = model.nodes;
+  const ExteriorFace& f = model.surfaces.exterior[hit.face];
+  double denom = 1.0 / pa.m[p];
+  for (int i = 0; i < 3; ++i) denom += hit.bary[i] * hit.bary[i] * inverseMass(nd, f.node[i]);
+  const double impulse = alpha * hit.delta / dt / denom;
+  pa.v[p] += (impulse / pa.m[p]) * hit.normal;
+  for (int i = 0; i < 3; ++i) {
+    Vec3 dv = (-hit.bary[i] * impulse * inverseMass(nd, f.node[i])) * hit.normal;
+    for (int c = 0; c < 3; ++c)
+      if (nd.fix[f.node[i]] & (1u << c)) dv[c] = 0.0;
+    nd.v[f.node[i]] += dv;
+  }
+}
+
 }  // namespace
 
 void enforceParticleFaceContact(Model& model, double dt, int passes) {
   Particles& pa = model.particles;
-  Nodes& nd = model.nodes;
   const auto& faces = model.surfaces.exterior;
   if (pa.size() == 0 || faces.empty() || !(dt > 0)) return;
+  const long np = static_cast<long>(pa.size());
 
   double reach = 0;
-  for (std::size_t p = 0; p < pa.size(); ++p)
+#pragma omp parallel for schedule(static) reduction(max : reach) if (np > kParallelMin)
+  for (long p = 0; p < np; ++p)
     reach = std::max(reach, kParticleContactRadius * std::cbrt(pa.V[p]) + dt * pa.v[p].norm());
   const FaceGrid grid = buildGrid(model, dt, reach);
+
   // The grid cell of a particle is the one of its predicted position before the passes (the
-  // corrections are far smaller than a cell), so its viable faces are found once.
+  // corrections are far smaller than a cell), so its viable faces are found once: each thread
+  // collects a contiguous block of particles, the blocks are joined in particle order.
   std::vector<std::size_t> offset(pa.size() + 1, 0);
   std::vector<Viable> viable;
-  for (std::size_t p = 0; p < pa.size(); ++p) {
-    if (!pa.tie[p].active()) viableFaces(model, p, grid, grid.keyOf(pa.x[p] + dt * pa.v[p]), viable);
-    offset[p + 1] = viable.size();
+  std::vector<std::vector<Viable>> parts;
+#pragma omp parallel if (np > kParallelMin)
+  {
+#pragma omp single
+    parts.resize(static_cast<std::size_t>(threadCount()));
+    const long nt = threadCount(), t = threadId();
+    std::vector<Viable>& mine = parts[static_cast<std::size_t>(t)];
+    for (long p = np * t / nt; p < np * (t + 1) / nt; ++p) {
+      const std::size_t before = mine.size();
+      if (!pa.tie[p].active())
+        viableFaces(model, static_cast<std::size_t>(p), grid, grid.keyOf(pa.x[p] + dt * pa.v[p]), mine);
+      offset[p + 1] = mine.size() - before;
+    }
   }
+  for (std::size_t p = 0; p < pa.size(); ++p) offset[p + 1] += offset[p];
+  viable.reserve(offset.back());
+  for (const auto& part : parts) viable.insert(viable.end(), part.begin(), part.end());
+  std::vector<int> candidates;  // particles with viable faces, ascending
+  for (std::size_t p = 0; p < pa.size(); ++p)
+    if (offset[p + 1] > offset[p]) candidates.push_back(static_cast<int>(p));
+  if (candidates.empty()) return;
 
+  // A particle's deepest hit depends on its own velocity and the velocities of its viable
+  // faces' nodes only, and its own velocity changes only with a hit on one of those faces. So
+  // a hit found once stays right until one of those nodes is pushed: every push is stamped on
+  // the face's nodes, and a hit older than a stamp among its nodes is found again. Each pass
+  // renews the stale hits in parallel, then sweeps the particles sequentially in particle
+  // order (particles share face nodes), renewing those made stale earlier in the sweep.
+  const long nc = static_cast<long>(candidates.size());
+  std::vector<Hit> hits(candidates.size());
+  std::vector<long> found_at(candidates.size(), -1);   // push count when the hit was found
+  std::vector<long> pushed_at(model.nodes.size(), -1);  // push count of a node's last push
+  long pushes = 0;
+  const auto renew = [&](long c) {
+    const std::size_t p = static_cast<std::size_t>(candidates[c]);
+    const Viable* first = viable.data() + offset[p];
+    const Viable* last = viable.data() + offset[p + 1];
+    bool stale = found_at[c] < 0;
+    for (const Viable* it = first; !stale && it != last; ++it)
+      for (int a : faces[it->face].node) stale = stale || pushed_at[a] >= found_at[c];
+    if (!stale) return;
+    hits[c] = deepestHit(model, p, first, last, dt);
+    found_at[c] = pushes;
+  };
   for (int k = 1; k <= passes; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
-    bool any = false;
-    // Sequential in particle order: particles share face nodes, the order must be fixed.
-    for (std::size_t p = 0; p < pa.size(); ++p) {
-      if (offset[p + 1] == offset[p]) continue;
-      const Hit hit =
-          deepestHit(model, p, viable.data() + offset[p], viable.data() + offset[p + 1], dt);
-      if (hit.face < 0) continue;
-      const ExteriorFace& f = faces[hit.face];
-      double denom = 1.0 / pa.m[p];
-      for (int i = 0; i < 3; ++i) denom += hit.bary[i] * hit.bary[i] * inverseMass(nd, f.node[i]);
-      const double impulse = alpha * hit.delta / dt / denom;
-      pa.v[p] += (impulse / pa.m[p]) * hit.normal;
-      for (int i = 0; i < 3; ++i) {
-        Vec3 dv = (-hit.bary[i] * impulse * inverseMass(nd, f.node[i])) * hit.normal;
-        for (int c = 0; c < 3; ++c)
-          if (nd.fix[f.node[i]] & (1u << c)) dv[c] = 0.0;
-        nd.v[f.node[i]] += dv;
-      }
-      any = true;
+#pragma omp parallel for schedule(dynamic, 8) if (nc > kParallelMin)
+    for (long c = 0; c < nc; ++c) renew(c);
+    const long pushes_before = pushes;
+    for (long c = 0; c < nc; ++c) {
+      if (pushes > pushes_before) renew(c);
+      if (hits[c].face < 0) continue;
+      applyHit(model, static_cast<std::size_t>(candidates[c]), hits[c], alpha, dt);
+      for (int a : faces[hits[c].face].node) pushed_at[a] = pushes;
+      ++pushes;
     }
-    if (!any) break;
+    if (pushes == pushes_before) break;
   }
 }
 
