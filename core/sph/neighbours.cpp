@@ -139,15 +139,18 @@ void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vecto
 void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
                                           const std::vector<int>& body, double skin,
                                           NeighbourList& out) {
-  const std::size_t n = x.size();
-  const long ni = static_cast<long>(n);
+  const std::size_t n = x.size(), n_built = x_built_.size();
   // A pair inside the support now was inside the widened one at the build as long as no
   // particle moved plus grew by more than its margin skin/2 h_built (triangle inequality);
-  // 0.99 of it leaves room for round-off in this test.
-  bool rebuild = n != x_built_.size() || body != body_built_ || !(skin > 0);
+  // 0.99 of it leaves room for round-off in this test. Particles appended since the build
+  // (conversions) keep the list if the others kept their bodies: they get their rows then.
+  const bool appended = n > n_built && n_built > 0 &&
+                        std::equal(body_built_.begin(), body_built_.end(), body.begin());
+  bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built_);
   if (!rebuild) {
+    const long nb = static_cast<long>(n_built);
 #pragma omp parallel for schedule(static) reduction(|| : rebuild)
-    for (long i = 0; i < ni; ++i) {
+    for (long i = 0; i < nb; ++i) {
       const double drift = (x[i] - x_built_[i]).norm() + std::max(0.0, h[i] - h_built_[i]);
       if (!(drift <= 0.99 * 0.5 * skin * h_built_[i])) rebuild = true;
     }
@@ -160,6 +163,8 @@ void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std:
     h_built_ = h;
     body_built_ = body;
     ++verlet_builds_;
+  } else if (appended) {
+    appendCandidates(x, h, body, skin);
   }
   buildRows(
       n,
@@ -173,6 +178,76 @@ void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std:
         }
       },
       thread_index_, count_, out);
+}
+
+void NeighbourSearch::appendCandidates(const std::vector<Vec3>& x, const std::vector<double>& h,
+                                       const std::vector<int>& body, double skin) {
+  // The triangle inequality holds whatever position each particle was built at, so a new
+  // particle is built at its birth position and paired with the others at theirs: the
+  // candidates are then the pairs a fresh build would give if each particle had stayed where
+  // it was built, and every later drift check measures from there.
+  const std::size_t n = x.size(), n_built = x_built_.size();
+  x_built_.insert(x_built_.end(), x.begin() + static_cast<std::ptrdiff_t>(n_built), x.end());
+  h_built_.insert(h_built_.end(), h.begin() + static_cast<std::ptrdiff_t>(n_built), h.end());
+  h_wide_.resize(n);
+  for (std::size_t i = n_built; i < n; ++i) h_wide_[i] = (1.0 + 0.5 * skin) * h[i];
+  body_built_ = body;
+
+  // One grid of the built positions for each body that got particles.
+  int n_bodies = 0;
+  for (int b : body) n_bodies = std::max(n_bodies, b + 1);
+  std::vector<char> grown(static_cast<std::size_t>(n_bodies), 0);
+  for (std::size_t i = n_built; i < n; ++i) grown[body[i]] = 1;
+  ids_.resize(static_cast<std::size_t>(n_bodies));
+  for (auto& v : ids_) v.clear();
+  std::vector<double> h_max(static_cast<std::size_t>(n_bodies), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (grown[body[i]]) {
+      ids_[body[i]].push_back(static_cast<int>(i));
+      h_max[body[i]] = std::max(h_max[body[i]], h_wide_[i]);
+    }
+  grids_.resize(static_cast<std::size_t>(n_bodies));
+  for (int b = 0; b < n_bodies; ++b)
+    if (grown[b]) grids_[b].build(x_built_, ids_[b], 2.0 * h_max[b]);
+
+  // Rows of the new particles, with sphNeighbours' test on the built positions; each new
+  // particle also joins the rows of its old candidates (ascending: it is larger than them).
+  std::vector<std::vector<int>> rows(n - n_built);
+  std::vector<std::size_t> extra(n_built + 1, 0);
+  for (std::size_t i = n_built; i < n; ++i) {
+    std::vector<int>& row = rows[i - n_built];
+    const Vec3 xi = x_built_[i];
+    const double hi = h_wide_[i];
+    grids_[body[i]].forEachCandidate(xi, [&](int j) {
+      const double support = hi + h_wide_[j];
+      if (j != static_cast<int>(i) && (xi - x_built_[j]).squaredNorm() < support * support)
+        row.push_back(j);
+    });
+    std::sort(row.begin(), row.end());
+    for (int j : row)
+      if (static_cast<std::size_t>(j) < n_built) ++extra[j + 1];
+  }
+  std::vector<std::size_t> offset(n + 1, 0);
+  for (std::size_t i = 0; i < n_built; ++i)
+    offset[i + 1] = offset[i] + (candidates_.offset[i + 1] - candidates_.offset[i]) + extra[i + 1];
+  for (std::size_t i = n_built; i < n; ++i) offset[i + 1] = offset[i] + rows[i - n_built].size();
+  std::vector<int> index(offset[n]);
+  std::vector<std::size_t> fill(n_built);
+  for (std::size_t i = 0; i < n_built; ++i) {
+    fill[i] = static_cast<std::size_t>(
+        std::copy(candidates_.index.begin() + static_cast<std::ptrdiff_t>(candidates_.offset[i]),
+                  candidates_.index.begin() + static_cast<std::ptrdiff_t>(candidates_.offset[i + 1]),
+                  index.begin() + static_cast<std::ptrdiff_t>(offset[i])) -
+        index.begin());
+  }
+  for (std::size_t i = n_built; i < n; ++i) {
+    const std::vector<int>& row = rows[i - n_built];
+    std::copy(row.begin(), row.end(), index.begin() + static_cast<std::ptrdiff_t>(offset[i]));
+    for (int j : row)
+      if (static_cast<std::size_t>(j) < n_built) index[fill[j]++] = static_cast<int>(i);
+  }
+  candidates_.offset.swap(offset);
+  candidates_.index.swap(index);
 }
 
 void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,

@@ -63,7 +63,8 @@ class NeighbourSearch {
 
   /// sphNeighbours through a Verlet list: candidate pairs within the support widened by
   /// (1 + skin/2), rebuilt only when a particle has moved, or its h grown, by more than its
-  /// share of the skin since the last build (or the particles changed). The candidates are
+  /// share of the skin since the last build (or the particles changed other than by
+  /// particles appended at the end, which get their candidates added instead). The candidates are
   /// filtered with sphNeighbours' own test at every call, so `out` is bit for bit the list a
   /// fresh sphNeighbours gives: when the candidates were built never changes a result.
   void sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
@@ -77,6 +78,10 @@ class NeighbourSearch {
                       const std::vector<int>& body, std::vector<std::pair<int, int>>& out);
 
  private:
+  /// Candidates of the particles appended since the last build, into candidates_.
+  void appendCandidates(const std::vector<Vec3>& x, const std::vector<double>& h,
+                        const std::vector<int>& body, double skin);
+
   std::vector<CellGrid> grids_;
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
   std::vector<std::vector<int>> thread_index_;      ///< per-thread neighbour ids

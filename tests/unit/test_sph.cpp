@@ -167,6 +167,54 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles drift an
   CHECK(search.verletBuilds() < calls / 3);
 }
 
+TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born",
+          "[unit][sph]") {
+  // Reference: sphNeighboursBruteForce at every call (exact equality of the lists) while a
+  // two-body cloud drifts by 0.02 h per call and 10 particles are appended at most calls
+  // (conversions), some right next to old ones, some of them growing. Appending must not
+  // rebuild the list (builds < calls / 3 as without births), and a body changed for an old
+  // particle must (the appended rows would be wrong).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
+  std::vector<Vec3> x, drift;
+  std::vector<double> h;
+  std::vector<int> body;
+  const auto add = [&](const Vec3& p, int b) {
+    x.push_back(p);
+    drift.push_back(Vec3(dir(rng), dir(rng), dir(rng)).normalized() * 0.02 * 0.4e-3);
+    h.push_back(0.4e-3);
+    body.push_back(b);
+  };
+  for (int i = 0; i < 1500; ++i) add(Vec3(pos(rng), pos(rng), pos(rng)), i % 2);
+  NeighbourSearch search;
+  NeighbourList verlet, fresh;
+  const int calls = 30;
+  long builds_before_body_change = 0;
+  for (int k = 0; k < calls; ++k) {
+    if (k % 4 != 3)
+      for (int b = 0; b < 10; ++b) {
+        const std::size_t near = static_cast<std::size_t>(rng() % x.size());
+        add(b % 2 ? x[near] + 0.3 * h[near] * Vec3(dir(rng), dir(rng), dir(rng))
+                  : Vec3(pos(rng), pos(rng), pos(rng)),
+            b % 3 == 0 ? 1 : 0);
+      }
+    if (k == 25) {
+      builds_before_body_change = search.verletBuilds();
+      body[7] = 1 - body[7];
+    }
+    search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
+    sphNeighboursBruteForce(x, h, body, fresh);
+    INFO("call " << k << ": " << x.size() << " particles, " << fresh.pairs() << " pairs, "
+                 << search.verletBuilds() << " builds");
+    REQUIRE(fresh.pairs() > 5 * x.size());
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] += drift[i], h[i] *= i % 5 == 0 ? 1.005 : 1.0;
+  }
+  CHECK(search.verletBuilds() < calls / 3);
+  CHECK(search.verletBuilds() > builds_before_body_change);
+}
+
 TEST_CASE("sph free body conserves momentum and energy, forces independent of threads",
           "[unit][sph]") {
   // Reference: the anti-symmetric pair forces give f_ij = -f_ji, so the momentum of a free
