@@ -136,43 +136,130 @@ void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vecto
       thread_index_, count_, out);
 }
 
-void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
-                                          const std::vector<int>& body, double skin,
-                                          NeighbourList& out) {
-  const std::size_t n = x.size(), n_built = x_built_.size();
-  // A pair inside the support now was inside the widened one at the build as long as no
-  // particle moved plus grew by more than its margin skin/2 h_built (triangle inequality);
+bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                     const std::vector<int>& body, double skin) {
+  const std::size_t n = x.size(), n_built = x_built.size();
+  // A pair inside its range now was inside the widened one at the build as long as no
+  // particle moved plus grew by more than its margin skin/2 r_built (triangle inequality);
   // 0.99 of it leaves room for round-off in this test. Particles appended since the build
   // (conversions) keep the list if the others kept their bodies: they get their rows then.
   const bool appended = n > n_built && n_built > 0 &&
-                        std::equal(body_built_.begin(), body_built_.end(), body.begin());
-  bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built_);
+                        std::equal(body_built.begin(), body_built.end(), body.begin());
+  bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built);
   if (!rebuild) {
     const long nb = static_cast<long>(n_built);
 #pragma omp parallel for schedule(static) reduction(|| : rebuild)
     for (long i = 0; i < nb; ++i) {
-      const double drift = (x[i] - x_built_[i]).norm() + std::max(0.0, h[i] - h_built_[i]);
-      if (!(drift <= 0.99 * 0.5 * skin * h_built_[i])) rebuild = true;
+      const double drift = (x[i] - x_built[i]).norm() + std::max(0.0, r[i] - r_built[i]);
+      if (!(drift <= 0.99 * 0.5 * skin * r_built[i])) rebuild = true;
     }
   }
   if (rebuild) {
-    h_wide_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) h_wide_[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * h[i];
-    sphNeighbours(x, h_wide_, body, candidates_);
-    x_built_ = x;
-    h_built_ = h;
-    body_built_ = body;
-    ++verlet_builds_;
-  } else if (appended) {
-    appendCandidates(x, h, body, skin);
+    r_wide.resize(n);
+    for (std::size_t i = 0; i < n; ++i) r_wide[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * r[i];
+    x_built = x;
+    r_built = r;
+    body_built = body;
+    ++builds;
+    return true;
   }
+  if (appended) {
+    x_built.insert(x_built.end(), x.begin() + static_cast<std::ptrdiff_t>(n_built), x.end());
+    r_built.insert(r_built.end(), r.begin() + static_cast<std::ptrdiff_t>(n_built), r.end());
+    r_wide.resize(n);
+    for (std::size_t i = n_built; i < n; ++i) r_wide[i] = (1.0 + 0.5 * skin) * r[i];
+    body_built = body;
+  }
+  return false;
+}
+
+void NeighbourSearch::appendCandidates(Verlet& v, std::size_t n_old, bool cross) {
+  // The triangle inequality holds whatever position each particle was built at, so a new
+  // particle is built at its birth position and paired with the others at theirs: the
+  // candidates are then the pairs a fresh build would give if each particle had stayed where
+  // it was built, and every later drift check measures from there.
+  const std::size_t n = v.x_built.size();
+  const std::vector<int>& body = v.body_built;
+  // One grid of the built positions: per body that got particles, or one over all (cross).
+  int n_grids = 1;
+  if (!cross)
+    for (int b : body) n_grids = std::max(n_grids, b + 1);
+  const auto grid_of = [&](std::size_t i) { return cross ? 0 : body[i]; };
+  std::vector<char> grown(static_cast<std::size_t>(n_grids), 0);
+  for (std::size_t i = n_old; i < n; ++i) grown[grid_of(i)] = 1;
+  ids_.resize(static_cast<std::size_t>(n_grids));
+  for (auto& ids : ids_) ids.clear();
+  std::vector<double> r_max(static_cast<std::size_t>(n_grids), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (grown[grid_of(i)]) {
+      ids_[grid_of(i)].push_back(static_cast<int>(i));
+      r_max[grid_of(i)] = std::max(r_max[grid_of(i)], v.r_wide[i]);
+    }
+  grids_.resize(static_cast<std::size_t>(n_grids));
+  for (int g = 0; g < n_grids; ++g)
+    if (grown[g]) grids_[g].build(v.x_built, ids_[g], 2.0 * r_max[g]);
+
+  // All partners of each new particle, with the fresh search's test on the built positions.
+  // A row keeps its partners above it only (cross) or all (same body); a new particle joins
+  // the rows of its old partners at their ends (it is larger than anything in them).
+  std::vector<std::vector<int>> rows(n - n_old);
+  std::vector<std::pair<int, int>> joins;  // (old partner, new particle), new ones ascending
+  std::vector<std::size_t> extra(n_old, 0);
+  for (std::size_t i = n_old; i < n; ++i) {
+    std::vector<int>& row = rows[i - n_old];
+    const Vec3 xi = v.x_built[i];
+    const double ri = v.r_wide[i];
+    grids_[grid_of(i)].forEachCandidate(xi, [&](int j) {
+      const double reach = ri + v.r_wide[j];
+      if (j != static_cast<int>(i) && (body[j] != body[i]) == cross &&
+          (xi - v.x_built[j]).squaredNorm() < reach * reach)
+        row.push_back(j);
+    });
+    std::sort(row.begin(), row.end());
+    for (int j : row)
+      if (static_cast<std::size_t>(j) < n_old) {
+        joins.emplace_back(j, static_cast<int>(i));
+        ++extra[j];
+      }
+    if (cross) row.erase(row.begin(), std::upper_bound(row.begin(), row.end(), static_cast<int>(i)));
+  }
+  const NeighbourList& old = v.candidates;
+  std::vector<std::size_t> offset(n + 1, 0);
+  for (std::size_t i = 0; i < n_old; ++i)
+    offset[i + 1] = offset[i] + (old.offset[i + 1] - old.offset[i]) + extra[i];
+  for (std::size_t i = n_old; i < n; ++i) offset[i + 1] = offset[i] + rows[i - n_old].size();
+  std::vector<int> index(offset[n]);
+  std::vector<std::size_t> fill(n_old);
+  for (std::size_t i = 0; i < n_old; ++i)
+    fill[i] = static_cast<std::size_t>(
+        std::copy(old.index.begin() + static_cast<std::ptrdiff_t>(old.offset[i]),
+                  old.index.begin() + static_cast<std::ptrdiff_t>(old.offset[i + 1]),
+                  index.begin() + static_cast<std::ptrdiff_t>(offset[i])) -
+        index.begin());
+  for (const auto& [j, i] : joins) index[fill[j]++] = i;
+  for (std::size_t i = n_old; i < n; ++i)
+    std::copy(rows[i - n_old].begin(), rows[i - n_old].end(),
+              index.begin() + static_cast<std::ptrdiff_t>(offset[i]));
+  v.candidates.offset.swap(offset);
+  v.candidates.index.swap(index);
+}
+
+void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
+                                          const std::vector<int>& body, double skin,
+                                          NeighbourList& out) {
+  const std::size_t n = x.size(), n_old = sph_.x_built.size();
+  if (sph_.update(x, h, body, skin))
+    sphNeighbours(x, sph_.r_wide, body, sph_.candidates);
+  else if (n > n_old)
+    appendCandidates(sph_, n_old, false);
+  const NeighbourList& cand = sph_.candidates;
   buildRows(
       n,
       [&](std::size_t i, std::vector<int>& buf) {
         const Vec3 xi = x[i];
         const double hi = h[i];
-        for (std::size_t k = candidates_.offset[i]; k < candidates_.offset[i + 1]; ++k) {
-          const int j = candidates_.index[k];
+        for (std::size_t k = cand.offset[i]; k < cand.offset[i + 1]; ++k) {
+          const int j = cand.index[k];
           const double support = hi + h[j];  // the test of sphNeighbours, term for term
           if ((xi - x[j]).squaredNorm() < support * support) buf.push_back(j);
         }
@@ -180,81 +267,9 @@ void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std:
       thread_index_, count_, out);
 }
 
-void NeighbourSearch::appendCandidates(const std::vector<Vec3>& x, const std::vector<double>& h,
-                                       const std::vector<int>& body, double skin) {
-  // The triangle inequality holds whatever position each particle was built at, so a new
-  // particle is built at its birth position and paired with the others at theirs: the
-  // candidates are then the pairs a fresh build would give if each particle had stayed where
-  // it was built, and every later drift check measures from there.
-  const std::size_t n = x.size(), n_built = x_built_.size();
-  x_built_.insert(x_built_.end(), x.begin() + static_cast<std::ptrdiff_t>(n_built), x.end());
-  h_built_.insert(h_built_.end(), h.begin() + static_cast<std::ptrdiff_t>(n_built), h.end());
-  h_wide_.resize(n);
-  for (std::size_t i = n_built; i < n; ++i) h_wide_[i] = (1.0 + 0.5 * skin) * h[i];
-  body_built_ = body;
-
-  // One grid of the built positions for each body that got particles.
-  int n_bodies = 0;
-  for (int b : body) n_bodies = std::max(n_bodies, b + 1);
-  std::vector<char> grown(static_cast<std::size_t>(n_bodies), 0);
-  for (std::size_t i = n_built; i < n; ++i) grown[body[i]] = 1;
-  ids_.resize(static_cast<std::size_t>(n_bodies));
-  for (auto& v : ids_) v.clear();
-  std::vector<double> h_max(static_cast<std::size_t>(n_bodies), 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (grown[body[i]]) {
-      ids_[body[i]].push_back(static_cast<int>(i));
-      h_max[body[i]] = std::max(h_max[body[i]], h_wide_[i]);
-    }
-  grids_.resize(static_cast<std::size_t>(n_bodies));
-  for (int b = 0; b < n_bodies; ++b)
-    if (grown[b]) grids_[b].build(x_built_, ids_[b], 2.0 * h_max[b]);
-
-  // Rows of the new particles, with sphNeighbours' test on the built positions; each new
-  // particle also joins the rows of its old candidates (ascending: it is larger than them).
-  std::vector<std::vector<int>> rows(n - n_built);
-  std::vector<std::size_t> extra(n_built + 1, 0);
-  for (std::size_t i = n_built; i < n; ++i) {
-    std::vector<int>& row = rows[i - n_built];
-    const Vec3 xi = x_built_[i];
-    const double hi = h_wide_[i];
-    grids_[body[i]].forEachCandidate(xi, [&](int j) {
-      const double support = hi + h_wide_[j];
-      if (j != static_cast<int>(i) && (xi - x_built_[j]).squaredNorm() < support * support)
-        row.push_back(j);
-    });
-    std::sort(row.begin(), row.end());
-    for (int j : row)
-      if (static_cast<std::size_t>(j) < n_built) ++extra[j + 1];
-  }
-  std::vector<std::size_t> offset(n + 1, 0);
-  for (std::size_t i = 0; i < n_built; ++i)
-    offset[i + 1] = offset[i] + (candidates_.offset[i + 1] - candidates_.offset[i]) + extra[i + 1];
-  for (std::size_t i = n_built; i < n; ++i) offset[i + 1] = offset[i] + rows[i - n_built].size();
-  std::vector<int> index(offset[n]);
-  std::vector<std::size_t> fill(n_built);
-  for (std::size_t i = 0; i < n_built; ++i) {
-    fill[i] = static_cast<std::size_t>(
-        std::copy(candidates_.index.begin() + static_cast<std::ptrdiff_t>(candidates_.offset[i]),
-                  candidates_.index.begin() + static_cast<std::ptrdiff_t>(candidates_.offset[i + 1]),
-                  index.begin() + static_cast<std::ptrdiff_t>(offset[i])) -
-        index.begin());
-  }
-  for (std::size_t i = n_built; i < n; ++i) {
-    const std::vector<int>& row = rows[i - n_built];
-    std::copy(row.begin(), row.end(), index.begin() + static_cast<std::ptrdiff_t>(offset[i]));
-    for (int j : row)
-      if (static_cast<std::size_t>(j) < n_built) index[fill[j]++] = static_cast<int>(i);
-  }
-  candidates_.offset.swap(offset);
-  candidates_.index.swap(index);
-}
-
-void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
-                                     const std::vector<int>& body,
-                                     std::vector<std::pair<int, int>>& out) {
+void NeighbourSearch::crossBodyRows(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                    const std::vector<int>& body, NeighbourList& rows) {
   const std::size_t n = x.size();
-  out.clear();
   ids_.resize(1);
   ids_[0].resize(n);
   double r_max = 0;
@@ -262,11 +277,13 @@ void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vect
     ids_[0][i] = static_cast<int>(i);
     r_max = std::max(r_max, r[i]);
   }
-  if (n == 0 || !(r_max > 0)) return;
+  if (n == 0 || !(r_max > 0)) {
+    rows.offset.assign(n + 1, 0);
+    rows.index.clear();
+    return;
+  }
   grids_.resize(1);
   grids_[0].build(x, ids_[0], 2.0 * r_max);
-
-  NeighbourList rows;
   buildRows(
       n,
       [&](std::size_t i, std::vector<int>& buf) {
@@ -280,10 +297,47 @@ void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vect
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
       thread_index_, count_, rows);
+}
+
+namespace {
+
+void rowsToPairs(const NeighbourList& rows, std::vector<std::pair<int, int>>& out) {
+  out.clear();
   out.reserve(rows.pairs());
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i + 1 < rows.offset.size(); ++i)
     for (std::size_t k = rows.offset[i]; k < rows.offset[i + 1]; ++k)
       out.emplace_back(static_cast<int>(i), rows.index[k]);
+}
+
+}  // namespace
+
+void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                     const std::vector<int>& body,
+                                     std::vector<std::pair<int, int>>& out) {
+  crossBodyRows(x, r, body, rows_);
+  rowsToPairs(rows_, out);
+}
+
+void NeighbourSearch::crossBodyPairsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                           const std::vector<int>& body, double skin,
+                                           std::vector<std::pair<int, int>>& out) {
+  const std::size_t n = x.size(), n_old = contact_.x_built.size();
+  if (contact_.update(x, r, body, skin))
+    crossBodyRows(x, contact_.r_wide, body, contact_.candidates);
+  else if (n > n_old)
+    appendCandidates(contact_, n_old, true);
+  const NeighbourList& cand = contact_.candidates;
+  buildRows(
+      n,
+      [&](std::size_t i, std::vector<int>& buf) {
+        for (std::size_t k = cand.offset[i]; k < cand.offset[i + 1]; ++k) {
+          const int j = cand.index[k];
+          const double reach = r[i] + r[j];  // the test of crossBodyPairs, term for term
+          if ((x[i] - x[j]).squaredNorm() < reach * reach) buf.push_back(j);
+        }
+      },
+      thread_index_, count_, rows_);
+  rowsToPairs(rows_, out);
 }
 
 void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,

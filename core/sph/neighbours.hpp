@@ -70,28 +70,47 @@ class NeighbourSearch {
   void sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
                            const std::vector<int>& body, double skin, NeighbourList& out);
   /// Builds of the Verlet candidate list so far.
-  long verletBuilds() const { return verlet_builds_; }
+  long verletBuilds() const { return sph_.builds; }
 
   /// Contact candidates: pairs (i < j) of different bodies with |x_i - x_j| < r_i + r_j,
   /// sorted by (i, j). One grid over all points with cells of 2 max(r).
   void crossBodyPairs(const std::vector<Vec3>& x, const std::vector<double>& r,
                       const std::vector<int>& body, std::vector<std::pair<int, int>>& out);
+  /// crossBodyPairs through a Verlet list, as sphNeighboursVerlet (r in the place of h): bit
+  /// for bit the pairs crossBodyPairs gives.
+  void crossBodyPairsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
+                            const std::vector<int>& body, double skin,
+                            std::vector<std::pair<int, int>>& out);
+  /// Builds of the contact Verlet list so far.
+  long contactVerletBuilds() const { return contact_.builds; }
 
  private:
-  /// Candidates of the particles appended since the last build, into candidates_.
-  void appendCandidates(const std::vector<Vec3>& x, const std::vector<double>& h,
-                        const std::vector<int>& body, double skin);
+  /// Candidate pairs within the ranges r widened by (1 + skin/2), and the state they were
+  /// built from.
+  struct Verlet {
+    NeighbourList candidates;
+    std::vector<Vec3> x_built;
+    std::vector<double> r_built, r_wide;
+    std::vector<int> body_built;
+    long builds = 0;
+    /// Whether the candidates must be built afresh (then the built state is taken from x,
+    /// r and body); otherwise appended particles are added to the built state.
+    bool update(const std::vector<Vec3>& x, const std::vector<double>& r,
+                const std::vector<int>& body, double skin);
+  };
+  /// Candidates of the particles from n_old on, appended since the last build: same-body
+  /// pairs in full rows, or (cross) pairs of different bodies in rows of the larger partner.
+  void appendCandidates(Verlet& v, std::size_t n_old, bool cross);
+  /// crossBodyPairs as rows of the partners j > i.
+  void crossBodyRows(const std::vector<Vec3>& x, const std::vector<double>& r,
+                     const std::vector<int>& body, NeighbourList& rows);
 
   std::vector<CellGrid> grids_;
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
   std::vector<std::vector<int>> thread_index_;      ///< per-thread neighbour ids
   std::vector<std::size_t> count_;
-  // Verlet list: candidates and the state they were built from
-  NeighbourList candidates_;
-  std::vector<Vec3> x_built_;
-  std::vector<double> h_built_, h_wide_;
-  std::vector<int> body_built_;
-  long verlet_builds_ = 0;
+  NeighbourList rows_;                              ///< contact pairs as rows
+  Verlet sph_, contact_;
 };
 
 /// O(N^2) reference for sphNeighbours, for tests.

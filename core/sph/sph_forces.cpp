@@ -322,7 +322,8 @@ void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
     ws.contact_spacing[i] = std::cbrt(pa.V[i]);
     ws.contact_radius[i] = 0.5 * ws.contact_spacing[i] + dt * pa.v[i].norm();
   }
-  ws.search.crossBodyPairs(pa.x, ws.contact_radius, pa.body, ws.contact_pairs);
+  ws.search.crossBodyPairsVerlet(pa.x, ws.contact_radius, pa.body, ws.controls.verlet_skin,
+                                 ws.contact_pairs);
 
   // Johnson-Stryk style kinematic correction, Gauss-Seidel over the pairs in a fixed order:
   // a pair that would end the step closer than (d_i + d_j)/2 gets the normal relative velocity

@@ -173,7 +173,8 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born
   // two-body cloud drifts by 0.02 h per call and 10 particles are appended at most calls
   // (conversions), some right next to old ones, some of them growing. Appending must not
   // rebuild the list (builds < calls / 3 as without births), and a body changed for an old
-  // particle must (the appended rows would be wrong).
+  // particle must (the appended rows would be wrong). The same for the contact pairs of
+  // different bodies (crossBodyPairsVerlet against all pairs i < j within h_i + h_j).
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
   std::vector<Vec3> x, drift;
@@ -188,6 +189,7 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born
   for (int i = 0; i < 1500; ++i) add(Vec3(pos(rng), pos(rng), pos(rng)), i % 2);
   NeighbourSearch search;
   NeighbourList verlet, fresh;
+  std::vector<std::pair<int, int>> pairs, reference;
   const int calls = 30;
   long builds_before_body_change = 0;
   for (int k = 0; k < calls; ++k) {
@@ -209,10 +211,20 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born
     REQUIRE(fresh.pairs() > 5 * x.size());
     REQUIRE(verlet.offset == fresh.offset);
     REQUIRE(verlet.index == fresh.index);
+    // contact pairs through their own Verlet list, with the particles' h as contact radii
+    search.crossBodyPairsVerlet(x, h, body, 0.3, pairs);
+    reference.clear();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (std::size_t j = i + 1; j < x.size(); ++j)
+        if (body[i] != body[j] && (x[i] - x[j]).squaredNorm() < (h[i] + h[j]) * (h[i] + h[j]))
+          reference.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    REQUIRE(reference.size() > x.size());
+    REQUIRE(pairs == reference);
     for (std::size_t i = 0; i < x.size(); ++i) x[i] += drift[i], h[i] *= i % 5 == 0 ? 1.005 : 1.0;
   }
   CHECK(search.verletBuilds() < calls / 3);
   CHECK(search.verletBuilds() > builds_before_body_change);
+  CHECK(search.contactVerletBuilds() < calls / 3);
 }
 
 TEST_CASE("sph free body conserves momentum and energy, forces independent of threads",
