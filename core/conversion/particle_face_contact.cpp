@@ -181,7 +181,41 @@ struct Hit {
 struct Viable {
   int face;
   double distance;  ///< m, from the face's plane at the start of the step
+  int slot = -1;    ///< the face's entry in the face ends (FaceEnd) of this step
 };
+
+// A face's triangle at the end of the step, formed as projectOnFace forms it (same
+// operations, same bits), once per face instead of once per particle near it.
+struct FaceEnd {
+  Vec3 a, b, c;    ///< vertices at x + dt v, m
+  Vec3 n, normal;  ///< (b - a) x (c - a), and it made unit
+  double area2 = 0;
+  long at = -1;  ///< push count when formed (-1: not yet)
+};
+
+void formFaceEnd(const Model& model, int face, double dt, long pushes, FaceEnd& e) {
+  const Nodes& nd = model.nodes;
+  const ExteriorFace& f = model.surfaces.exterior[face];
+  e.a = nd.x[f.node[0]] + dt * nd.v[f.node[0]];
+  e.b = nd.x[f.node[1]] + dt * nd.v[f.node[1]];
+  e.c = nd.x[f.node[2]] + dt * nd.v[f.node[2]];
+  e.n = (e.b - e.a).cross(e.c - e.a);
+  e.area2 = e.n.squaredNorm();
+  if (e.area2 > 0) e.normal = e.n / std::sqrt(e.area2);
+  e.at = pushes;
+}
+
+// projectOnFace(p, e.a, e.b, e.c, out), term for term.
+bool projectOnFaceEnd(const Vec3& p, const FaceEnd& e, FaceProjection& out) {
+  if (!(e.area2 > 0)) return false;
+  out.normal = e.normal;
+  out.distance = (p - e.a).dot(out.normal);
+  const Vec3 q = p - out.distance * out.normal;
+  out.bary.x() = (e.b - q).cross(e.c - q).dot(e.n) / e.area2;
+  out.bary.y() = (e.c - q).cross(e.a - q).dot(e.n) / e.area2;
+  out.bary.z() = 1.0 - out.bary.x() - out.bary.y();
+  return true;
+}
 
 void viableFaces(const Model& model, std::size_t p, const FaceGrid& grid, std::int64_t cell,
                  std::vector<Viable>& out) {
@@ -196,25 +230,20 @@ void viableFaces(const Model& model, std::size_t p, const FaceGrid& grid, std::i
     FaceProjection now;
     if (projectOnFace(pa.x[p], nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], now) &&
         now.distance >= -radius)
-      out.push_back({k, now.distance});
+      out.push_back({k, now.distance, -1});
   }
 }
 
 // The face particle p penetrates most at the end of the step, if any, among its viable faces.
 Hit deepestHit(const Model& model, std::size_t p, const Viable* viable, const Viable* viable_end,
-               double dt) {
-  const Nodes& nd = model.nodes;
+               const std::vector<FaceEnd>& ends, double dt) {
   const Particles& pa = model.particles;
-  const auto& faces = model.surfaces.exterior;
   const double radius = kParticleContactRadius * std::cbrt(pa.V[p]);
   const Vec3 xp = pa.x[p] + dt * pa.v[p];
   Hit best;
   for (const Viable* it = viable; it != viable_end; ++it) {
-    const ExteriorFace& f = faces[it->face];
-    Vec3 xe[3];
-    for (int i = 0; i < 3; ++i) xe[i] = nd.x[f.node[i]] + dt * nd.v[f.node[i]];
     FaceProjection end;
-    if (!projectOnFace(xp, xe[0], xe[1], xe[2], end)) continue;
+    if (!projectOnFaceEnd(xp, ends[static_cast<std::size_t>(it->slot)], end)) continue;
     // It must end within the face's extent.
     if (end.bary.minCoeff() < -0.05) continue;
     // A particle already inside its radius (born next to faces, or left there by earlier
@@ -287,35 +316,68 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
     if (offset[p + 1] > offset[p]) candidates.push_back(static_cast<int>(p));
   if (candidates.empty()) return;
 
+  // Each face that is viable for some particle gets one slot of face ends, in face order.
+  std::vector<int> slot_of(faces.size(), -1);
+  for (const Viable& v : viable) slot_of[static_cast<std::size_t>(v.face)] = 0;
+  std::vector<int> slot_face;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    if (slot_of[f] == 0) {
+      slot_of[f] = static_cast<int>(slot_face.size());
+      slot_face.push_back(static_cast<int>(f));
+    }
+  for (Viable& v : viable) v.slot = slot_of[static_cast<std::size_t>(v.face)];
+
   // A particle's deepest hit depends on its own velocity and the velocities of its viable
   // faces' nodes only, and its own velocity changes only with a hit on one of those faces. So
-  // a hit found once stays right until one of those nodes is pushed: every push is stamped on
-  // the face's nodes, and a hit older than a stamp among its nodes is found again. Each pass
-  // renews the stale hits in parallel, then sweeps the particles sequentially in particle
-  // order (particles share face nodes), renewing those made stale earlier in the sweep.
+  // a hit (or a face end) found once stays right until one of those nodes is pushed: every
+  // push is stamped on the face's nodes, and what is older than a stamp among its nodes is
+  // found again. Each pass renews the stale face ends and hits in parallel, then sweeps the
+  // particles sequentially in particle order (particles share face nodes), renewing those
+  // made stale earlier in the sweep.
   const long nc = static_cast<long>(candidates.size());
+  const long ns = static_cast<long>(slot_face.size());
+  std::vector<FaceEnd> ends(slot_face.size());
   std::vector<Hit> hits(candidates.size());
   std::vector<long> found_at(candidates.size(), -1);   // push count when the hit was found
   std::vector<long> pushed_at(model.nodes.size(), -1);  // push count of a node's last push
   long pushes = 0;
-  const auto renew = [&](long c) {
+  const auto staleSince = [&](int face, long at) {
+    if (at < 0) return true;
+    for (int a : faces[face].node)
+      if (pushed_at[a] >= at) return true;
+    return false;
+  };
+  const auto renewEnd = [&](long s) {
+    if (staleSince(slot_face[s], ends[s].at)) formFaceEnd(model, slot_face[s], dt, pushes, ends[s]);
+  };
+  // The face ends must be fresh (renewEnd) for the viable faces of candidate c.
+  const auto renewHit = [&](long c) {
     const std::size_t p = static_cast<std::size_t>(candidates[c]);
     const Viable* first = viable.data() + offset[p];
     const Viable* last = viable.data() + offset[p + 1];
     bool stale = found_at[c] < 0;
     for (const Viable* it = first; !stale && it != last; ++it)
-      for (int a : faces[it->face].node) stale = stale || pushed_at[a] >= found_at[c];
+      stale = staleSince(it->face, found_at[c]);
     if (!stale) return;
-    hits[c] = deepestHit(model, p, first, last, dt);
+    hits[c] = deepestHit(model, p, first, last, ends, dt);
     found_at[c] = pushes;
   };
   for (int k = 1; k <= passes; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
-#pragma omp parallel for schedule(dynamic, 8) if (nc > kParallelMin)
-    for (long c = 0; c < nc; ++c) renew(c);
+#pragma omp parallel if (nc > kParallelMin)
+    {
+#pragma omp for schedule(static)
+      for (long s = 0; s < ns; ++s) renewEnd(s);
+#pragma omp for schedule(dynamic, 8)
+      for (long c = 0; c < nc; ++c) renewHit(c);
+    }
     const long pushes_before = pushes;
     for (long c = 0; c < nc; ++c) {
-      if (pushes > pushes_before) renew(c);
+      if (pushes > pushes_before) {
+        const std::size_t p = static_cast<std::size_t>(candidates[c]);
+        for (std::size_t v = offset[p]; v < offset[p + 1]; ++v) renewEnd(viable[v].slot);
+        renewHit(c);
+      }
       if (hits[c].face < 0) continue;
       applyHit(model, static_cast<std::size_t>(candidates[c]), hits[c], alpha, dt);
       for (int a : faces[hits[c].face].node) pushed_at[a] = pushes;
