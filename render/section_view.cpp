@@ -90,13 +90,23 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
   page.scene->AddActor(actor);
   if (auto particles = particleActor(step.particles, keep, lut, field)) page.scene->AddActor(particles);
 
-  // Fit the x-z extent of everything drawn; x is up, -z (flight) to the right.
+  // Fit the x-z extent of the cut elements and of the particles drawn near them; x is up,
+  // -z (flight) to the right. Debris that has flown further than half the elements' extent
+  // beyond them is left out of the frame: one stray particle a metre away would otherwise
+  // shrink the plates to a few pixels.
   double b[6];
   skin->GetBounds(b);
-  if (!keep.empty()) {
-    double pb[6];
-    step.particles->GetBounds(pb);
-    for (int k = 0; k < 6; k += 2) b[k] = std::min(b[k], pb[k]), b[k + 1] = std::max(b[k + 1], pb[k + 1]);
+  double reach[6];
+  for (int k = 0; k < 6; k += 2) {
+    const double margin = 0.5 * (b[k + 1] - b[k]);
+    reach[k] = b[k] - margin, reach[k + 1] = b[k + 1] + margin;
+  }
+  for (vtkIdType i : keep) {
+    const double* x = step.particles->GetPoint(i);
+    bool near = true;
+    for (int d = 0; d < 3; ++d) near = near && x[d] >= reach[2 * d] && x[d] <= reach[2 * d + 1];
+    if (!near) continue;
+    for (int d = 0; d < 3; ++d) b[2 * d] = std::min(b[2 * d], x[d]), b[2 * d + 1] = std::max(b[2 * d + 1], x[d]);
   }
   const double vp_w = (kSceneViewport[2] - kSceneViewport[0]) * W;
   const double vp_h = (kSceneViewport[3] - kSceneViewport[1]) * H;
