@@ -183,15 +183,19 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   // Runs: settings, cost, energy budget.
   std::ofstream runs_csv(out / "runs.csv");
   runs_csv << "run,folder,mode,plastic_strain,resolution,elements,particles,steps,time_s,"
-              "wall_time_s,energy_balance,status\n";
-  md << "\n## Runs\n\n| run | elements | particles | steps | to t | wall time | energy "
-        "balance | status |\n|---|---|---|---|---|---|---|---|\n";
+              "wall_time_s,threads,energy_balance,status\n";
+  // Wall times of runs on different thread counts or machine loads do not compare: the
+  // thread count is shown beside them.
+  md << "\n## Runs\n\n| run | elements | particles | steps | to t | wall time | threads | "
+        "energy balance | status |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const ReportRun& r : runs) {
     const double wall = summaryNumber(r, "wall_time_s");
+    const double threads = summaryNumber(r, "threads");
     char line[512];
-    std::snprintf(line, sizeof line, "| %s | %.0f | %.0f | %.0f | %.4g s | %.0f s | %.3g %% | %s |\n",
+    std::snprintf(line, sizeof line,
+                  "| %s | %.0f | %.0f | %.0f | %.4g s | %.0f s | %.0f | %.3g %% | %s |\n",
                   r.label.c_str(), summaryNumber(r, "elements"), summaryNumber(r, "particles"),
-                  summaryNumber(r, "steps"), summaryNumber(r, "time"), wall,
+                  summaryNumber(r, "steps"), summaryNumber(r, "time"), wall, threads,
                   100 * summaryNumber(r, "energy_balance"),
                   summaryString(r, "status", "no summary.toml").c_str());
     md << line;
@@ -200,7 +204,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
              << summaryNumber(r, "plastic_strain") << "," << r.scene.resolution << ","
              << summaryNumber(r, "elements") << "," << summaryNumber(r, "particles") << ","
              << summaryNumber(r, "steps") << "," << summaryNumber(r, "time") << "," << wall << ","
-             << summaryNumber(r, "energy_balance") << ","
+             << threads << "," << summaryNumber(r, "energy_balance") << ","
              << summaryString(r, "status", "") << "\n";
   }
 

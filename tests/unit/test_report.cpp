@@ -104,6 +104,8 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   int lines = 0;
   for (std::string l; std::getline(runs, l);) ++lines;
   CHECK(lines == 3);
+  CHECK(read(tmp.path / "rep" / "runs.csv").find(",wall_time_s,threads,") != std::string::npos);
+  CHECK(md.find("| wall time | threads |") != std::string::npos);
   CHECK(fs::file_size(tmp.path / "rep" / "velocity.png") > 10000);
   for (const char* png : {"run1/first_front.png", "run1/second_rear.png", "run2/first_rear.png"}) {
     CHECK(fs::exists(tmp.path / "rep" / png));
