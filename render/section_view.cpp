@@ -96,17 +96,15 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
   // shrink the plates to a few pixels.
   double b[6];
   skin->GetBounds(b);
-  double reach[6];
-  for (int k = 0; k < 6; k += 2) {
-    const double margin = 0.5 * (b[k + 1] - b[k]);
-    reach[k] = b[k] - margin, reach[k + 1] = b[k + 1] + margin;
-  }
+  // Only x and z (0 and 2) frame the picture; the cut is flat in y.
+  const double margin_x = 0.5 * (b[1] - b[0]), margin_z = 0.5 * (b[5] - b[4]);
+  const double lo_x = b[0] - margin_x, hi_x = b[1] + margin_x;
+  const double lo_z = b[4] - margin_z, hi_z = b[5] + margin_z;
   for (vtkIdType i : keep) {
     const double* x = step.particles->GetPoint(i);
-    bool near = true;
-    for (int d = 0; d < 3; ++d) near = near && x[d] >= reach[2 * d] && x[d] <= reach[2 * d + 1];
-    if (!near) continue;
-    for (int d = 0; d < 3; ++d) b[2 * d] = std::min(b[2 * d], x[d]), b[2 * d + 1] = std::max(b[2 * d + 1], x[d]);
+    if (x[0] < lo_x || x[0] > hi_x || x[2] < lo_z || x[2] > hi_z) continue;
+    b[0] = std::min(b[0], x[0]), b[1] = std::max(b[1], x[0]);
+    b[4] = std::min(b[4], x[2]), b[5] = std::max(b[5], x[2]);
   }
   const double vp_w = (kSceneViewport[2] - kSceneViewport[0]) * W;
   const double vp_h = (kSceneViewport[3] - kSceneViewport[1]) * H;
