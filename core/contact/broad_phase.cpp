@@ -1,33 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "core/contact/broad_phase.hpp"
 
+#include "core/common/omp_threads.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 namespace fesph {
 
 namespace {
-
-int threadCount() {
-#ifdef _OPENMP
-  return omp_get_max_threads();
-#else
-  return 1;
-#endif
-}
-
-int threadId() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
-}
 
 /// Cell coordinates of the uniform grid, hashed into a power-of-two bucket table.
 struct Grid {
@@ -135,7 +117,7 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     });
 
   // Query every slave in parallel into per-thread lists, then copy them out in slave order.
-  const int nthreads = threadCount();
+  const int nthreads = maxThreads();
   w.thread_faces.resize(nthreads);
   for (std::vector<int>& list : w.thread_faces) list.clear();
   w.slave_thread.resize(nslaves);

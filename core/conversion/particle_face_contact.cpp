@@ -2,6 +2,7 @@
 #include "core/conversion/particle_face_contact.hpp"
 
 #include "core/conversion/face_geometry.hpp"
+#include "core/common/omp_threads.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,10 +10,6 @@
 #include <climits>
 #include <utility>
 #include <vector>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace fesph {
 
@@ -57,21 +54,6 @@ struct FaceGrid {
     return {entries.data() + (lo - entries.begin()), entries.data() + (hi - entries.begin())};
   }
 };
-
-int threadCount() {
-#ifdef _OPENMP
-  return omp_get_num_threads();
-#else
-  return 1;
-#endif
-}
-int threadId() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
-}
 
 // Below this many items a loop runs on one thread: forking costs more than it saves. Low
 // enough that the determinism test's few dozen particles split over the threads.
@@ -138,7 +120,7 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
 #pragma omp parallel if (nf > kParallelMin)
   {
 #pragma omp single
-    parts.resize(static_cast<std::size_t>(threadCount()));
+    parts.resize(static_cast<std::size_t>(teamSize()));
     std::vector<std::pair<std::int64_t, int>>& mine = parts[static_cast<std::size_t>(threadId())];
 #pragma omp for schedule(static)
     for (long k = 0; k < nf; ++k) {
@@ -298,8 +280,8 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
 #pragma omp parallel if (np > kParallelMin)
   {
 #pragma omp single
-    parts.resize(static_cast<std::size_t>(threadCount()));
-    const long nt = threadCount(), t = threadId();
+    parts.resize(static_cast<std::size_t>(teamSize()));
+    const long nt = teamSize(), t = threadId();
     std::vector<Viable>& mine = parts[static_cast<std::size_t>(t)];
     for (long p = np * t / nt; p < np * (t + 1) / nt; ++p) {
       const std::size_t before = mine.size();

@@ -1,24 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "core/sph/neighbours.hpp"
 
+#include "core/common/omp_threads.hpp"
+
 #include <algorithm>
 #include <cmath>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace fesph {
 
 namespace {
-
-int maxThreads() {
-#ifdef _OPENMP
-  return omp_get_max_threads();
-#else
-  return 1;
-#endif
-}
 
 /// Compressed rows built in parallel without atomics: each thread takes one contiguous block
 /// of rows, collects them in its own buffer, and copies the buffer to its place once the
@@ -32,12 +22,8 @@ void buildRows(std::size_t n, Collect&& collect, std::vector<std::vector<int>>& 
   out.offset.assign(n + 1, 0);
 #pragma omp parallel
   {
-#ifdef _OPENMP
-    const std::size_t nt = static_cast<std::size_t>(omp_get_num_threads());
-    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-#else
-    const std::size_t nt = 1, t = 0;
-#endif
+    const std::size_t nt = static_cast<std::size_t>(teamSize());
+    const std::size_t t = static_cast<std::size_t>(threadId());
     const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
     std::vector<int>& buf = thread_buf[t];
     buf.clear();
@@ -54,6 +40,24 @@ void buildRows(std::size_t n, Collect&& collect, std::vector<std::vector<int>>& 
     }
     std::copy(buf.begin(), buf.end(), out.index.begin() + static_cast<std::ptrdiff_t>(out.offset[begin]));
   }
+}
+
+/// The candidates j of each row i that pass |x_i - x_j| < r_i + r_j: term for term the test of
+/// the fresh searches (r = h for SPH pairs, the contact radii for contact pairs), so a Verlet
+/// list filtered here gives their lists bit for bit.
+void filterCandidates(const std::vector<Vec3>& x, const std::vector<double>& r,
+                      const NeighbourList& cand, std::vector<std::vector<int>>& thread_buf,
+                      std::vector<std::size_t>& count, NeighbourList& out) {
+  buildRows(
+      x.size(),
+      [&](std::size_t i, std::vector<int>& buf) {
+        for (std::size_t k = cand.offset[i]; k < cand.offset[i + 1]; ++k) {
+          const int j = cand.index[k];
+          const double reach = r[i] + r[j];
+          if ((x[i] - x[j]).squaredNorm() < reach * reach) buf.push_back(j);
+        }
+      },
+      thread_buf, count, out);
 }
 
 }  // namespace
@@ -252,19 +256,7 @@ void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std:
     sphNeighbours(x, sph_.r_wide, body, sph_.candidates);
   else if (n > n_old)
     appendCandidates(sph_, n_old, false);
-  const NeighbourList& cand = sph_.candidates;
-  buildRows(
-      n,
-      [&](std::size_t i, std::vector<int>& buf) {
-        const Vec3 xi = x[i];
-        const double hi = h[i];
-        for (std::size_t k = cand.offset[i]; k < cand.offset[i + 1]; ++k) {
-          const int j = cand.index[k];
-          const double support = hi + h[j];  // the test of sphNeighbours, term for term
-          if ((xi - x[j]).squaredNorm() < support * support) buf.push_back(j);
-        }
-      },
-      thread_index_, count_, out);
+  filterCandidates(x, h, sph_.candidates, thread_index_, count_, out);
 }
 
 void NeighbourSearch::crossBodyRows(const std::vector<Vec3>& x, const std::vector<double>& r,
@@ -326,17 +318,7 @@ void NeighbourSearch::crossBodyPairsVerlet(const std::vector<Vec3>& x, const std
     crossBodyRows(x, contact_.r_wide, body, contact_.candidates);
   else if (n > n_old)
     appendCandidates(contact_, n_old, true);
-  const NeighbourList& cand = contact_.candidates;
-  buildRows(
-      n,
-      [&](std::size_t i, std::vector<int>& buf) {
-        for (std::size_t k = cand.offset[i]; k < cand.offset[i + 1]; ++k) {
-          const int j = cand.index[k];
-          const double reach = r[i] + r[j];  // the test of crossBodyPairs, term for term
-          if ((x[i] - x[j]).squaredNorm() < reach * reach) buf.push_back(j);
-        }
-      },
-      thread_index_, count_, rows_);
+  filterCandidates(x, r, contact_.candidates, thread_index_, count_, rows_);
   rowsToPairs(rows_, out);
 }
 
