@@ -24,7 +24,8 @@ namespace {
 constexpr const char* kFormat = "fesph checkpoint";
 // Bump with every change of what transfer() stores: an older file then gets a clear error.
 // 2: the SPH Verlet skin and last step's pair list and gradients.
-constexpr std::int64_t kFormatVersion = 2;
+// 3: the pairs' stabilisation forces (pair_stab), looked up by the next step.
+constexpr std::int64_t kFormatVersion = 3;
 
 // How an array element is laid out: `cols` numbers of type `Base`, contiguous.
 template <class T, class = void> struct Layout;
@@ -77,7 +78,7 @@ FESPH_CHECKPOINT_FIELDS(Particles, 14 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
-                                          12 * kVec);
+                                          13 * kVec + 2 * kVec /* scratch */);
 FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
@@ -373,6 +374,9 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("neighbour_last_offset", ws.neighbours_last.offset);
   ar.array("neighbour_last_index", ws.neighbours_last.index);
   ar.array("pair_grad_last", ws.pair_grad_last);
+  // pair_stab_last and pair_last_slot are scratch: the next step swaps pair_stab into the
+  // first and writes the second before reading it
+  ar.array("pair_stab", ws.pair_stab);
   ar.enter("current");
   transfer(ar, ws.current);
   ar.leave();
@@ -549,6 +553,7 @@ void checkConsistent(const Model& m, const std::string& path) {
       if (x < 0 || static_cast<std::size_t>(x) >= nn) fail("slave nodes");
   const NeighbourList& nl = m.sph.neighbours;
   if (!nl.offset.empty() && nl.offset.back() != nl.index.size()) fail("neighbour list");
+  if (m.sph.pair_stab.size() != nl.index.size()) fail("pair stabilisation forces");
 }
 
 }  // namespace

@@ -53,6 +53,7 @@ Footprint modelFootprint(const Model& m) {
                 bytes(pa.body, pa.material, pa.parent, pa.tie, m.v_particle_free) +
                 bytes(ws.neighbours.offset, ws.neighbours.index, ws.pair_grad, ws.pair_grad_prev) +
                 bytes(ws.neighbours_last.offset, ws.neighbours_last.index, ws.pair_grad_last) +
+                bytes(ws.pair_stab, ws.pair_stab_last, ws.pair_last_slot) +
                 snapshotBytes(ws.current) + snapshotBytes(ws.previous) +
                 bytes(ws.corrected, ws.velocity_grad, ws.velocity_grad_prev, ws.stress_b) +
                 bytes(ws.plastic_work, ws.av_work, ws.contact_radius, ws.contact_spacing) +

@@ -98,6 +98,8 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   const std::size_t np = prev.size();
   if (i >= np) {  // born this step: no previous configuration
     ws.velocity_grad_prev[i] = ws.velocity_grad[i];
+    for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k)
+      ws.pair_last_slot[k] = SphWorkspace::kNoLastPair;
     return;
   }
   // The last step computed the gradients of its own pairs in this very configuration: a pair
@@ -109,9 +111,12 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   Mat3 Gp = Mat3::Zero();
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
+    ws.pair_last_slot[k] = SphWorkspace::kNoLastPair;
     if (j >= np) continue;
     while (kl < kl_end && static_cast<std::size_t>(last.index[kl]) < j) ++kl;
-    const Vec3 g = kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j
+    const bool in_last = kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j;
+    if (in_last) ws.pair_last_slot[k] = kl;
+    const Vec3 g = in_last
                        ? ws.pair_grad_last[kl]
                        : kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
     ws.pair_grad_prev[k] = g;
@@ -236,11 +241,16 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
     const Vec3& g = ws.pair_grad[k];
     const Vec3 f_stab = stabilisationForce(cur, pa, i, j, g, ctl, mu);
+    ws.pair_stab[k] = f_stab;
     mu_max = std::max(mu_max, mu);
     f += (cur.V[i] * cur.V[j]) * ((Si + ws.stress_b[j]) * g) + f_stab;
     Vec3 f_stab_sum = f_stab;
     if (i < np && j < np) {
-      f_stab_sum += stabilisationForce(prev, pa, i, j, ws.pair_grad_prev[k], ctl, mu);
+      // the last step computed this pair's force in the previous configuration already
+      const std::size_t kl = ws.pair_last_slot[k];
+      f_stab_sum += kl != SphWorkspace::kNoLastPair
+                        ? ws.pair_stab_last[kl]
+                        : stabilisationForce(prev, pa, i, j, ws.pair_grad_prev[k], ctl, mu);
     } else {
       f_stab_sum += f_stab;
     }
@@ -275,10 +285,13 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   std::swap(ws.current, ws.previous);
   std::swap(ws.neighbours, ws.neighbours_last);
   std::swap(ws.pair_grad, ws.pair_grad_last);
+  std::swap(ws.pair_stab, ws.pair_stab_last);
   resizeWorkspace(ws, n);
   ws.search.sphNeighboursVerlet(pa.x, pa.h, pa.body, ws.controls.verlet_skin, ws.neighbours);
   ws.pair_grad.resize(ws.neighbours.pairs());
   ws.pair_grad_prev.resize(ws.neighbours.pairs());
+  ws.pair_stab.resize(ws.neighbours.pairs());
+  ws.pair_last_slot.resize(ws.neighbours.pairs());
   const long ni = static_cast<long>(n);
 
 #pragma omp parallel for schedule(static)

@@ -64,6 +64,12 @@ struct SphWorkspace {
   /// (the same configuration, the same bits), looked up instead of computed again.
   NeighbourList neighbours_last;
   std::vector<Vec3> pair_grad_last;
+  /// Stabilisation force of each pair (this step's and the last step's lists): the last
+  /// step's value is this step's previous-configuration term, the same bits, not recomputed.
+  std::vector<Vec3> pair_stab, pair_stab_last;
+  /// Entry of each pair in the last step's list, or kNoLastPair.
+  std::vector<std::size_t> pair_last_slot;
+  static constexpr std::size_t kNoLastPair = static_cast<std::size_t>(-1);
   SphSnapshot current, previous;
   std::vector<std::uint8_t> corrected;  ///< 1: B_i = A_i^-1; 0: normalised plain gradient
   std::vector<Mat3> velocity_grad;      ///< L_i at this step's positions, 1/s
