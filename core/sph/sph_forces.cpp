@@ -294,12 +294,14 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   ws.pair_last_slot.resize(ws.neighbours.pairs());
   const long ni = static_cast<long>(n);
 
-#pragma omp parallel for schedule(static)
+  // Rows differ in length (debris has few neighbours, the bulk ~75) and each particle writes
+  // only its own entries: dynamic chunks balance the threads and change no result.
+#pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i) kinematics(pa, static_cast<std::size_t>(i), ws);
   // Volumes of neighbours change below: the passes must stay separate.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i) updateMaterial(model, static_cast<std::size_t>(i), dt_last, ws);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i)
     ws.av_work[i] = forces(model, static_cast<std::size_t>(i), dt_last, ws);
 
