@@ -141,7 +141,7 @@ void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vecto
 }
 
 bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vector<double>& r,
-                                     const std::vector<int>& body, double skin) {
+                                     const std::vector<int>& body, double skin, bool per_body) {
   const std::size_t n = x.size(), n_built = x_built.size();
   // A pair inside its range now was inside the widened one at the build as long as no
   // particle moved plus grew by more than its margin skin/2 r_built (triangle inequality);
@@ -151,10 +151,28 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
                         std::equal(body_built.begin(), body_built.end(), body.begin());
   bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built);
   if (!rebuild) {
+    // The motion is measured relative to a translation u shared by all the particles that can
+    // pair (each body for SPH pairs, everyone for pairs across bodies): a pair's distance
+    // changes by at most |d_i - u| + |d_j - u| for any common u, so a body's particles
+    // flying on together force fewer builds (115 -> 86 over 344 steps late in the four-plate
+    // quick run). u is the centre of the displacements' box.
+    std::size_t n_groups = 1;
+    if (per_body)
+      for (std::size_t i = 0; i < n_built; ++i)
+        n_groups = std::max(n_groups, static_cast<std::size_t>(body[i]) + 1);
+    std::vector<Vec3> lo(n_groups, Vec3::Constant(1e300)), hi(n_groups, Vec3::Constant(-1e300));
+    for (std::size_t i = 0; i < n_built; ++i) {
+      const std::size_t g = per_body ? static_cast<std::size_t>(body[i]) : 0;
+      lo[g] = lo[g].cwiseMin(x[i] - x_built[i]);
+      hi[g] = hi[g].cwiseMax(x[i] - x_built[i]);
+    }
+    std::vector<Vec3> shift(n_groups);
+    for (std::size_t g = 0; g < n_groups; ++g) shift[g] = 0.5 * (lo[g] + hi[g]);
     const long nb = static_cast<long>(n_built);
 #pragma omp parallel for schedule(static) reduction(|| : rebuild)
     for (long i = 0; i < nb; ++i) {
-      const double drift = (x[i] - x_built[i]).norm() + std::max(0.0, r[i] - r_built[i]);
+      const Vec3& u = shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
+      const double drift = (x[i] - x_built[i] - u).norm() + std::max(0.0, r[i] - r_built[i]);
       if (!(drift <= 0.99 * 0.5 * skin * r_built[i])) rebuild = true;
     }
   }
@@ -252,7 +270,7 @@ void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std:
                                           const std::vector<int>& body, double skin,
                                           NeighbourList& out) {
   const std::size_t n = x.size(), n_old = sph_.x_built.size();
-  if (sph_.update(x, h, body, skin))
+  if (sph_.update(x, h, body, skin, true))
     sphNeighbours(x, sph_.r_wide, body, sph_.candidates);
   else if (n > n_old)
     appendCandidates(sph_, n_old, false);
@@ -314,7 +332,7 @@ void NeighbourSearch::crossBodyPairsVerlet(const std::vector<Vec3>& x, const std
                                            const std::vector<int>& body, double skin,
                                            std::vector<std::pair<int, int>>& out) {
   const std::size_t n = x.size(), n_old = contact_.x_built.size();
-  if (contact_.update(x, r, body, skin))
+  if (contact_.update(x, r, body, skin, false))
     crossBodyRows(x, contact_.r_wide, body, contact_.candidates);
   else if (n > n_old)
     appendCandidates(contact_, n_old, true);

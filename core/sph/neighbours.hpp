@@ -62,8 +62,8 @@ class NeighbourSearch {
                      const std::vector<int>& body, NeighbourList& out);
 
   /// sphNeighbours through a Verlet list: candidate pairs within the support widened by
-  /// (1 + skin/2), rebuilt only when a particle has moved, or its h grown, by more than its
-  /// share of the skin since the last build (or the particles changed other than by
+  /// (1 + skin/2), rebuilt only when a particle has moved (relative to a translation common
+  /// to its body), or its h grown, by more than its share of the skin since the last build (or the particles changed other than by
   /// particles appended at the end, which get their candidates added instead). The candidates are
   /// filtered with sphNeighbours' own test at every call, so `out` is bit for bit the list a
   /// fresh sphNeighbours gives: when the candidates were built never changes a result.
@@ -95,8 +95,9 @@ class NeighbourSearch {
     long builds = 0;
     /// Whether the candidates must be built afresh (then the built state is taken from x,
     /// r and body); otherwise appended particles are added to the built state.
+    /// per_body: pairs only form within a body (its translation is then its own).
     bool update(const std::vector<Vec3>& x, const std::vector<double>& r,
-                const std::vector<int>& body, double skin);
+                const std::vector<int>& body, double skin, bool per_body);
   };
   /// Candidates of the particles from n_old on, appended since the last build: same-body
   /// pairs in full rows, or (cross) pairs of different bodies in rows of the larger partner.

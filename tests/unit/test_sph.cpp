@@ -167,6 +167,46 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles drift an
   CHECK(search.verletBuilds() < calls / 3);
 }
 
+TEST_CASE("sph Verlet list follows a body flying on together: exact, and few builds",
+          "[unit][sph]") {
+  // Body 0 flies at 0.2 h per call (past the 0.15 h margin every call) with a random drift of
+  // 0.02 h on top; body 1 stays. Drift is judged relative to each body's own translation
+  // (a pair changes its distance by at most |d_i - u| + |d_j - u| for any common u), so the
+  // list must stay equal to a fresh search at every call while being built only a few times;
+  // then one particle of body 0 turns back (2 h against the flow) and must force a build.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
+  const std::size_t n = 1500;
+  std::vector<Vec3> x(n), drift(n);
+  std::vector<double> h(n, 0.4e-3);
+  std::vector<int> body(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = Vec3(pos(rng), pos(rng), pos(rng));
+    body[i] = static_cast<int>(i % 2);
+    drift[i] = Vec3(dir(rng), dir(rng), dir(rng)).normalized() * 0.02 * h[i];
+    if (body[i] == 0) drift[i] += Vec3(0, 0, 0.2 * h[i]);
+  }
+  NeighbourSearch search;
+  NeighbourList verlet, fresh;
+  const int calls = 30;
+  long builds_before_turn = 0;
+  for (int k = 0; k < calls; ++k) {
+    if (k == 20) {
+      builds_before_turn = search.verletBuilds();
+      x[4] -= Vec3(0, 0, 2.0 * h[4]);
+    }
+    search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
+    sphNeighboursBruteForce(x, h, body, fresh);
+    INFO("call " << k << ": " << fresh.pairs() << " pairs, " << search.verletBuilds() << " builds");
+    REQUIRE(fresh.pairs() > 5 * n);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+    for (std::size_t i = 0; i < n; ++i) x[i] += drift[i];
+  }
+  CHECK(builds_before_turn < 20 / 3);  // measured on absolute motion: a build every call
+  CHECK(search.verletBuilds() > builds_before_turn);  // the turn did force one
+}
+
 TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born",
           "[unit][sph]") {
   // Reference: sphNeighboursBruteForce at every call (exact equality of the lists) while a
