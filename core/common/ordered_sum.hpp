@@ -17,7 +17,8 @@ std::array<double, N> orderedSums(std::size_t n, Term&& term) {
   constexpr std::size_t kBlock = 4096;
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::array<double, N>> partial(blocks);
-#pragma omp parallel for schedule(static) if (blocks > 1)
+// dynamic: blocks differ in cost (converted elements cluster); each block is summed alone
+#pragma omp parallel for schedule(dynamic, 1) if (blocks > 1)
   for (std::size_t b = 0; b < blocks; ++b) {
     std::array<double, N> s{};
     const std::size_t end = std::min(n, (b + 1) * kBlock);
