@@ -75,11 +75,15 @@ class KeySet {
       bitmap_[b / 64] |= std::uint64_t{1} << (b % 64);
     }
   }
-  bool contains(std::int64_t k) const {
+  /// The rank of key k among the keys (ascending), or -1 if it is not one of them.
+  int rank(std::int64_t k) const {
     const std::uint64_t b = static_cast<std::uint64_t>(k) & mask_;
-    return (bitmap_[b / 64] >> (b % 64) & 1) != 0 &&
-           std::binary_search(keys_.begin(), keys_.end(), k);
+    if ((bitmap_[b / 64] >> (b % 64) & 1) == 0) return -1;
+    const auto it = std::lower_bound(keys_.begin(), keys_.end(), k);
+    return it != keys_.end() && *it == k ? static_cast<int>(it - keys_.begin()) : -1;
   }
+  std::size_t size() const { return keys_.size(); }
+  std::int64_t key(std::size_t rank) const { return keys_[rank]; }
 
  private:
   std::vector<std::int64_t> keys_;
@@ -116,12 +120,12 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
     if (untied[p]) keys.push_back(cell_of[p]);
   const KeySet occupied(std::move(keys));
 
-  std::vector<std::vector<std::pair<std::int64_t, int>>> parts;
+  std::vector<std::vector<std::pair<int, int>>> parts;  // (rank of the cell's key, face)
 #pragma omp parallel if (nf > kParallelMin)
   {
 #pragma omp single
     parts.resize(static_cast<std::size_t>(teamSize()));
-    std::vector<std::pair<std::int64_t, int>>& mine = parts[static_cast<std::size_t>(threadId())];
+    std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(threadId())];
 #pragma omp for schedule(static)
     for (long k = 0; k < nf; ++k) {
       Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -137,13 +141,21 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
       for (long i = i0; i <= i1; ++i)
         for (long j = j0; j <= j1; ++j)
           for (long l = k0; l <= k1; ++l) {
-            const std::int64_t key = FaceGrid::key(i, j, l);
-            if (occupied.contains(key)) mine.emplace_back(key, static_cast<int>(k));
+            const int rank = occupied.rank(FaceGrid::key(i, j, l));
+            if (rank >= 0) mine.emplace_back(rank, static_cast<int>(k));
           }
     }
   }
-  for (const auto& part : parts) g.entries.insert(g.entries.end(), part.begin(), part.end());
-  std::sort(g.entries.begin(), g.entries.end());
+  // Counting sort by key: the parts hold ascending faces in thread order, so each key's run
+  // comes out in ascending face order, as a sort of (key, face) would give it.
+  std::vector<std::size_t> fill(occupied.size() + 1, 0);
+  for (const auto& part : parts)
+    for (const auto& e : part) ++fill[static_cast<std::size_t>(e.first) + 1];
+  for (std::size_t c = 0; c < occupied.size(); ++c) fill[c + 1] += fill[c];
+  g.entries.resize(fill.back());
+  for (const auto& part : parts)
+    for (const auto& [rank, face] : part)
+      g.entries[fill[static_cast<std::size_t>(rank)]++] = {occupied.key(static_cast<std::size_t>(rank)), face};
   // A box can enter the same key twice through a collision: keep each face once per key.
   g.entries.erase(std::unique(g.entries.begin(), g.entries.end()), g.entries.end());
   return g;
