@@ -63,10 +63,11 @@ class NeighbourSearch {
 
   /// sphNeighbours through a Verlet list: candidate pairs within the support widened by
   /// (1 + skin/2), rebuilt only when a particle has moved (relative to a translation common
-  /// to its body), or its h grown, by more than its share of the skin since the last build (or the particles changed other than by
-  /// particles appended at the end, which get their candidates added instead). The candidates are
-  /// filtered with sphNeighbours' own test at every call, so `out` is bit for bit the list a
-  /// fresh sphNeighbours gives: when the candidates were built never changes a result.
+  /// to its body), or its h grown, by more than its share of the skin since the last build
+  /// (or the particles changed other than by particles appended at the end, which get their
+  /// candidates added instead). The candidates are filtered with sphNeighbours' own test at
+  /// every call, so `out` is bit for bit the list a fresh sphNeighbours gives: when the
+  /// candidates were built never changes a result.
   void sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
                            const std::vector<int>& body, double skin, NeighbourList& out);
   /// Builds of the Verlet candidate list so far.
