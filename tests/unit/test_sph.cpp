@@ -34,6 +34,42 @@ Model latticeModel(int nx, int ny, int nz, double s) {
   return m;
 }
 
+/// 1500 particles of two bodies (alternating) in a 6 mm cube, h = 0.4 mm, each with a random
+/// drift of 0.02 h per call plus `flow0` for body 0.
+struct DriftingCloud {
+  std::vector<Vec3> x, drift;
+  std::vector<double> h;
+  std::vector<int> body;
+};
+
+DriftingCloud driftingCloud(unsigned seed, const Vec3& flow0) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
+  const std::size_t n = 1500;
+  DriftingCloud c{std::vector<Vec3>(n), std::vector<Vec3>(n), std::vector<double>(n, 0.4e-3),
+                  std::vector<int>(n)};
+  for (std::size_t i = 0; i < n; ++i) {
+    c.x[i] = Vec3(pos(rng), pos(rng), pos(rng));
+    c.drift[i] = Vec3(dir(rng), dir(rng), dir(rng)).normalized() * 0.02 * c.h[i];
+    c.body[i] = static_cast<int>(i % 2);
+    if (c.body[i] == 0) c.drift[i] += flow0;
+  }
+  return c;
+}
+
+/// The Verlet list of call k equals sphNeighboursBruteForce exactly (and is not trivial).
+void requireVerletIsFresh(NeighbourSearch& search, const std::vector<Vec3>& x,
+                          const std::vector<double>& h, const std::vector<int>& body, int k,
+                          NeighbourList& verlet, NeighbourList& fresh) {
+  search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
+  sphNeighboursBruteForce(x, h, body, fresh);
+  INFO("call " << k << ": " << x.size() << " particles, " << fresh.pairs() << " pairs, "
+               << search.verletBuilds() << " builds");
+  REQUIRE(fresh.pairs() > 5 * x.size());
+  REQUIRE(verlet.offset == fresh.offset);
+  REQUIRE(verlet.index == fresh.index);
+}
+
 }  // namespace
 
 TEST_CASE("sph kernel: unit integral on a lattice, odd gradient equal to dW/dr",
@@ -139,29 +175,14 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles drift an
   // two-body cloud drifts by 0.02 h per call and its h grows by 0.5 % per call; the skin of
   // 0.3 h must then last several calls (builds < calls / 3), and a jump of one particle by 2 h
   // must force a rebuild that still finds its new neighbours.
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
-  const std::size_t n = 1500;
-  std::vector<Vec3> x(n), drift(n);
-  std::vector<double> h(n, 0.4e-3);
-  std::vector<int> body(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = Vec3(pos(rng), pos(rng), pos(rng));
-    drift[i] = Vec3(dir(rng), dir(rng), dir(rng)).normalized() * 0.02 * h[i];
-    body[i] = static_cast<int>(i % 2);
-  }
+  DriftingCloud c = driftingCloud(7, Vec3::Zero());
   NeighbourSearch search;
   NeighbourList verlet, fresh;
   const int calls = 30;
   for (int k = 0; k < calls; ++k) {
-    if (k == 20) x[5] += Vec3(2.0 * h[5], 0, 0);
-    search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
-    sphNeighboursBruteForce(x, h, body, fresh);
-    INFO("call " << k << ": " << fresh.pairs() << " pairs, " << search.verletBuilds() << " builds");
-    REQUIRE(fresh.pairs() > 5 * n);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
-    for (std::size_t i = 0; i < n; ++i) x[i] += drift[i], h[i] *= 1.005;
+    if (k == 20) c.x[5] += Vec3(2.0 * c.h[5], 0, 0);
+    requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
+    for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i], c.h[i] *= 1.005;
   }
   CHECK(search.verletBuilds() > 2);  // the drift and the jump did trigger rebuilds
   CHECK(search.verletBuilds() < calls / 3);
@@ -174,18 +195,7 @@ TEST_CASE("sph Verlet list follows a body flying on together: exact, and few bui
   // (a pair changes its distance by at most |d_i - u| + |d_j - u| for any common u), so the
   // list must stay equal to a fresh search at every call while being built only a few times;
   // then one particle of body 0 turns back (2 h against the flow) and must force a build.
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> pos(-3e-3, 3e-3), dir(-1.0, 1.0);
-  const std::size_t n = 1500;
-  std::vector<Vec3> x(n), drift(n);
-  std::vector<double> h(n, 0.4e-3);
-  std::vector<int> body(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = Vec3(pos(rng), pos(rng), pos(rng));
-    body[i] = static_cast<int>(i % 2);
-    drift[i] = Vec3(dir(rng), dir(rng), dir(rng)).normalized() * 0.02 * h[i];
-    if (body[i] == 0) drift[i] += Vec3(0, 0, 0.2 * h[i]);
-  }
+  DriftingCloud c = driftingCloud(11, Vec3(0, 0, 0.2 * 0.4e-3));
   NeighbourSearch search;
   NeighbourList verlet, fresh;
   const int calls = 30;
@@ -193,15 +203,10 @@ TEST_CASE("sph Verlet list follows a body flying on together: exact, and few bui
   for (int k = 0; k < calls; ++k) {
     if (k == 20) {
       builds_before_turn = search.verletBuilds();
-      x[4] -= Vec3(0, 0, 2.0 * h[4]);
+      c.x[4] -= Vec3(0, 0, 2.0 * c.h[4]);
     }
-    search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
-    sphNeighboursBruteForce(x, h, body, fresh);
-    INFO("call " << k << ": " << fresh.pairs() << " pairs, " << search.verletBuilds() << " builds");
-    REQUIRE(fresh.pairs() > 5 * n);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
-    for (std::size_t i = 0; i < n; ++i) x[i] += drift[i];
+    requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
+    for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i];
   }
   CHECK(builds_before_turn < 20 / 3);  // measured on absolute motion: a build every call
   CHECK(search.verletBuilds() > builds_before_turn);  // the turn did force one
@@ -244,15 +249,11 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born
       builds_before_body_change = search.verletBuilds();
       body[7] = 1 - body[7];
     }
-    search.sphNeighboursVerlet(x, h, body, 0.3, verlet);
-    sphNeighboursBruteForce(x, h, body, fresh);
-    INFO("call " << k << ": " << x.size() << " particles, " << fresh.pairs() << " pairs, "
-                 << search.verletBuilds() << " builds");
-    REQUIRE(fresh.pairs() > 5 * x.size());
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
+    requireVerletIsFresh(search, x, h, body, k, verlet, fresh);
     // contact pairs through their own Verlet list, with the particles' h as contact radii
     search.crossBodyPairsVerlet(x, h, body, 0.3, pairs);
+    INFO("call " << k << ": " << x.size() << " particles, " << pairs.size() << " contact pairs, "
+                 << search.contactVerletBuilds() << " contact builds");
     reference.clear();
     for (std::size_t i = 0; i < x.size(); ++i)
       for (std::size_t j = i + 1; j < x.size(); ++j)
