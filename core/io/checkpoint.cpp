@@ -7,6 +7,7 @@
 #include "core/common/error.hpp"
 #include "core/io/hdf5.hpp"
 #include "core/io/run_metadata.hpp"
+#include "core/sph/sph_forces.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -26,6 +27,8 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 2: the SPH Verlet skin and last step's pair list and gradients.
 // 3: the pairs' stabilisation forces (pair_stab), looked up by the next step.
 constexpr std::int64_t kFormatVersion = 3;
+// Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
+constexpr std::int64_t kOldestReadable = 2;
 
 // How an array element is laid out: `cols` numbers of type `Base`, contiguous.
 template <class T, class = void> struct Layout;
@@ -101,6 +104,7 @@ FESPH_CHECKPOINT_FIELDS(Model, sizeof(Nodes) + sizeof(Elements) + sizeof(Particl
 class Writer {
  public:
   static constexpr bool reading = false;
+  const std::int64_t version = kFormatVersion;
   explicit Writer(h5::Handle root) { stack_.push_back(std::move(root)); }
   void enter(const std::string& name) { stack_.push_back(h5::createGroup(top(), name)); }
   void leave() { stack_.pop_back(); }
@@ -134,7 +138,9 @@ class Writer {
 class Reader {
  public:
   static constexpr bool reading = true;
-  Reader(h5::Handle root, std::string path) : path_(std::move(path)) {
+  const std::int64_t version;  ///< of the file
+  Reader(h5::Handle root, std::string path, std::int64_t file_version)
+      : version(file_version), path_(std::move(path)) {
     stack_.push_back(std::move(root));
   }
   void enter(const std::string& name) { stack_.push_back(h5::openGroup(top(), name)); }
@@ -375,8 +381,9 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("neighbour_last_index", ws.neighbours_last.index);
   ar.array("pair_grad_last", ws.pair_grad_last);
   // pair_stab_last and pair_last_slot are scratch: the next step swaps pair_stab into the
-  // first and writes the second before reading it
-  ar.array("pair_stab", ws.pair_stab);
+  // first and writes the second before reading it. Format 2 lacks pair_stab: readCheckpoint
+  // recomputes it.
+  if (ar.version >= 3) ar.array("pair_stab", ws.pair_stab);
   ar.enter("current");
   transfer(ar, ws.current);
   ar.leave();
@@ -486,7 +493,7 @@ template <class Ar> void transfer(Ar& ar, RunProgress& r) {
 }
 
 // The arrays must fit together before step() may index with them.
-void checkConsistent(const Model& m, const std::string& path) {
+void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab) {
   auto fail = [&](const std::string& what) {
     throw RunError(path + ": inconsistent checkpoint: " + what);
   };
@@ -553,7 +560,13 @@ void checkConsistent(const Model& m, const std::string& path) {
       if (x < 0 || static_cast<std::size_t>(x) >= nn) fail("slave nodes");
   const NeighbourList& nl = m.sph.neighbours;
   if (!nl.offset.empty() && nl.offset.back() != nl.index.size()) fail("neighbour list");
-  if (m.sph.pair_stab.size() != nl.index.size()) fail("pair stabilisation forces");
+  for (int j : nl.index)
+    if (j < 0 || static_cast<std::size_t>(j) >= np) fail("neighbour list");
+  if (nl.offset.size() > np + 1 || m.sph.pair_grad.size() != nl.index.size() ||
+      m.sph.current.size() < nl.offset.size() - (nl.offset.empty() ? 0 : 1))
+    fail("neighbour list");
+  if (has_pair_stab && m.sph.pair_stab.size() != nl.index.size())
+    fail("pair stabilisation forces");
 }
 
 }  // namespace
@@ -582,19 +595,21 @@ Model readCheckpoint(const std::string& path, RunProgress& run) {
   if (!h5::hasAttribute(file, "format") || h5::readStringAttribute(file, "format") != kFormat)
     throw RunError(path + ": not a fesph checkpoint (an HDF5 file without its format mark)");
   const std::int64_t version = h5::readIntAttribute(file, "format_version");
-  if (version != kFormatVersion)
+  if (version < kOldestReadable || version > kFormatVersion)
     throw RunError(path + ": checkpoint format version " + std::to_string(version) +
-                   ", this fesph reads version " + std::to_string(kFormatVersion));
+                   ", this fesph reads versions " + std::to_string(kOldestReadable) + " to " +
+                   std::to_string(kFormatVersion));
   Model model;
   try {
-    Reader r{h5::root(file), path};
+    Reader r{h5::root(file), path, version};
     transfer(r, model);
     transfer(r, run);
   } catch (const RunError& e) {
     const std::string what = e.what();
     throw RunError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
   }
-  checkConsistent(model, path);
+  checkConsistent(model, path, version >= 3);
+  if (version < 3) restorePairStabilisation(model);
   return model;
 }
 

@@ -265,6 +265,21 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
 
 }  // namespace
 
+void restorePairStabilisation(Model& model) {
+  SphWorkspace& ws = model.sph;
+  const NeighbourList& nb = ws.neighbours;
+  ws.pair_stab.assign(nb.pairs(), Vec3::Zero());
+  const long rows = nb.offset.empty() ? 0 : static_cast<long>(nb.offset.size() - 1);
+#pragma omp parallel for schedule(dynamic, 128)
+  for (long i = 0; i < rows; ++i) {
+    double mu = 0;
+    for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k)
+      ws.pair_stab[k] = stabilisationForce(ws.current, model.particles, static_cast<std::size_t>(i),
+                                           static_cast<std::size_t>(nb.index[k]),
+                                           ws.pair_grad[k], ws.controls, mu);
+  }
+}
+
 void SphSnapshot::resize(std::size_t n) {
   x.resize(n);
   v.resize(n);

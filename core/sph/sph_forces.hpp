@@ -20,4 +20,9 @@ void computeParticleForces(Model& model, double dt_last);
 /// Their work is booked by the step (correctionWork).
 void enforceParticleContact(Model& model, double dt);
 
+/// The last step's pair stabilisation forces (SphWorkspace::pair_stab), recomputed from the
+/// snapshot and pair gradients that step kept: the same bits as the step stored. For
+/// checkpoints of format 2, which did not store them.
+void restorePairStabilisation(Model& model);
+
 }  // namespace fesph
