@@ -78,9 +78,8 @@ void viscosityAndStableStep(Model& model, std::size_t e, double rho_avg, double 
   const Material& mat = model.materials[el.material[e]];
   const SolverControls& ctl = model.controls;
   const double trD = el.div_v[e], len = el.len[e];
-  const double c_avg = waveSpeed(mat, rho_avg), c_own = waveSpeed(mat, el.rho[e]);
-  const double c_wave =
-      std::sqrt((1 - own_fraction) * c_avg * c_avg + own_fraction * c_own * c_own);
+  const double c_wave = std::sqrt((1 - own_fraction) * waveSpeedSquared(mat, rho_avg) +
+                                  own_fraction * waveSpeedSquared(mat, el.rho[e]));
   el.q[e] = trD < 0 ? el.rho[e] * len * (ctl.bulk_quadratic * len * trD * trD -
                                          ctl.bulk_linear * c_wave * trD)
                     : 0.0;

@@ -91,6 +91,8 @@ double eosPressure(const Material& mat, double rho, double e, double damage = 0.
 
 /// Longitudinal (bulk + 4/3 shear) wave speed at density rho, m/s. Used by the time step.
 double waveSpeed(const Material& mat, double rho);
+/// Its square, m^2/s^2: blends of wave speeds are taken on c^2, without two square roots.
+double waveSpeedSquared(const Material& mat, double rho);
 
 /// Advance the deviatoric stress of one point over dt: Jaumann rotation by the spin W,
 /// elastic trial with the deviatoric rate of deformation, Johnson-Cook radial return,
