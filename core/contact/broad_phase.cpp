@@ -22,17 +22,17 @@ struct Grid {
     const long c = static_cast<long>(std::floor((p - origin[d]) * inv_h));
     return std::clamp(c, 0L, max_cell[d]);
   }
-  std::size_t bucket(long i, long j, long k) const {
-    const std::uint64_t h = static_cast<std::uint64_t>(i) * 73856093u ^
-                            static_cast<std::uint64_t>(j) * 19349663u ^
-                            static_cast<std::uint64_t>(k) * 83492791u;
-    return static_cast<std::size_t>(h & mask);
+  static std::uint64_t hash(long i, long j, long k) {
+    return static_cast<std::uint64_t>(i) * 73856093u ^ static_cast<std::uint64_t>(j) * 19349663u ^
+           static_cast<std::uint64_t>(k) * 83492791u;
   }
+  std::size_t bucket(std::uint64_t h) const { return static_cast<std::size_t>(h & mask); }
+  /// f(hash) for every cell the box [lo, hi] touches.
   template <class F>
-  void forEachBucket(const Vec3& lo, const Vec3& hi, F&& f) const {
+  void forEachCell(const Vec3& lo, const Vec3& hi, F&& f) const {
     for (long k = cell(lo.z(), 2); k <= cell(hi.z(), 2); ++k)
       for (long j = cell(lo.y(), 1); j <= cell(hi.y(), 1); ++j)
-        for (long i = cell(lo.x(), 0); i <= cell(hi.x(), 0); ++i) f(bucket(i, j, k));
+        for (long i = cell(lo.x(), 0); i <= cell(hi.x(), 0); ++i) f(hash(i, j, k));
   }
 };
 
@@ -97,27 +97,38 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   for (int d = 0; d < 3; ++d)
     grid.max_cell[d] = static_cast<long>(std::floor((all_hi[d] - all_lo[d]) * grid.inv_h));
 
-  // Faces into buckets (counting sort: ascending face ids in each bucket).
+  // Faces into buckets: each thread lists the (cell hash, face) pairs of a contiguous range of
+  // faces, then a counting sort by bucket keeps the faces of each bucket ascending (the same
+  // table for any thread count).
+  const int nthreads = maxThreads();
+  w.thread_cells.resize(nthreads);
+#pragma omp parallel if (nfaces > 256)
+  {
+    std::vector<std::pair<std::uint64_t, int>>& mine = w.thread_cells[threadId()];
+    mine.clear();
+#pragma omp for schedule(static)
+    for (std::size_t f = 0; f < nfaces; ++f)
+      grid.forEachCell(w.face_lo[f], w.face_hi[f],
+                       [&](std::uint64_t h) { mine.emplace_back(h, static_cast<int>(f)); });
+  }
   std::size_t inserts = 0;
-  for (std::size_t f = 0; f < nfaces; ++f)
-    grid.forEachBucket(w.face_lo[f], w.face_hi[f], [&](std::size_t) { ++inserts; });
+  for (int t = 0; t < nthreads; ++t) inserts += w.thread_cells[t].size();
+  // About two entries per bucket: a collision only adds faces that the box test rejects, and
+  // a sparser table cost more to clear and sum every step than the collisions (BM_ImpactStep
+  // at 197k tets, 2 threads: 176 ns with 2 buckets per entry, 161 ns with 1/2).
   std::size_t nbuckets = 1;
-  while (nbuckets < 2 * inserts) nbuckets *= 2;
+  while (2 * nbuckets < inserts) nbuckets *= 2;
   grid.mask = nbuckets - 1;
   w.bucket_offset.assign(nbuckets + 1, 0);
-  for (std::size_t f = 0; f < nfaces; ++f)
-    grid.forEachBucket(w.face_lo[f], w.face_hi[f],
-                       [&](std::size_t b) { ++w.bucket_offset[b + 1]; });
+  for (int t = 0; t < nthreads; ++t)
+    for (const auto& [h, f] : w.thread_cells[t]) ++w.bucket_offset[grid.bucket(h) + 1];
   for (std::size_t b = 0; b < nbuckets; ++b) w.bucket_offset[b + 1] += w.bucket_offset[b];
   w.bucket_faces.resize(inserts);
   w.bucket_fill.assign(w.bucket_offset.begin(), w.bucket_offset.end() - 1);
-  for (std::size_t f = 0; f < nfaces; ++f)
-    grid.forEachBucket(w.face_lo[f], w.face_hi[f], [&](std::size_t b) {
-      w.bucket_faces[w.bucket_fill[b]++] = static_cast<int>(f);
-    });
+  for (int t = 0; t < nthreads; ++t)
+    for (const auto& [h, f] : w.thread_cells[t]) w.bucket_faces[w.bucket_fill[grid.bucket(h)]++] = f;
 
   // Query every slave in parallel into per-thread lists, then copy them out in slave order.
-  const int nthreads = maxThreads();
   w.thread_faces.resize(nthreads);
   for (std::vector<int>& list : w.thread_faces) list.clear();
   w.slave_thread.resize(nslaves);
@@ -132,7 +143,8 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
       const Vec3 lo = nd.x[a].cwiseMin(y), hi = nd.x[a].cwiseMax(y);
       const std::size_t start = list.size();
       if (overlaps(lo, hi, all_lo, all_hi)) {
-        grid.forEachBucket(lo, hi, [&](std::size_t b) {
+        grid.forEachCell(lo, hi, [&](std::uint64_t h) {
+          const std::size_t b = grid.bucket(h);
           for (std::size_t q = w.bucket_offset[b]; q < w.bucket_offset[b + 1]; ++q) {
             const int f = w.bucket_faces[q];
             if (s.exterior[f].body != nd.body[a] && overlaps(lo, hi, w.face_lo[f], w.face_hi[f]))

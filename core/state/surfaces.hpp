@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace fesph {
@@ -43,6 +44,7 @@ struct ContactScratch {
   std::vector<std::size_t> bucket_offset;     ///< spatial hash buckets -> bucket_faces (CSR)
   std::vector<std::size_t> bucket_fill;       ///< fill cursor of each bucket
   std::vector<int> bucket_faces;
+  std::vector<std::vector<std::pair<std::uint64_t, int>>> thread_cells;  ///< (cell hash, face)
   std::vector<std::vector<int>> thread_faces;  ///< per-thread candidate lists before merging
   std::vector<int> slave_thread;              ///< thread that searched for each slave
   std::vector<std::size_t> slave_start;       ///< where in that thread's list its candidates start
