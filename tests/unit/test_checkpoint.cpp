@@ -136,47 +136,56 @@ void requireSameOutputs(const fs::path& a, const fs::path& b) {
   REQUIRE(ha == hb);
 }
 
+/// The restart scene run 2N steps in one go (the reference) and N steps (to checkpoint), once
+/// for the tests that continue from such a checkpoint. The scene converts elements to tied
+/// particles in contact with the plate.
+struct SplitRun {
+  static constexpr long N = 90;
+  Scene scene = loadScene(kScene, {}, kLibrary);
+  Model unbroken = buildModel(scene);
+  Model first = buildModel(scene);
+  SplitRun() {
+    stepTo(unbroken, 2 * N);
+    stepTo(first, N);
+  }
+};
+
+const SplitRun& splitRun() {
+  static const SplitRun run;
+  return run;
+}
+
 }  // namespace
 
 TEST_CASE("a run continued from a checkpoint is bit-identical to an unbroken run",
           "[unit][checkpoint]") {
   // Reference: 2N steps in one go. Test: N steps, checkpoint, a fresh Model read from it,
-  // N more. The scene converts elements to tied particles in contact with the plate.
-  const long N = 90;
-  const Scene scene = loadScene(kScene, {}, kLibrary);
-  Model unbroken = buildModel(scene);
-  stepTo(unbroken, 2 * N);
-
-  Model first = buildModel(scene);
-  stepTo(first, N);
+  // N more.
+  const SplitRun& run = splitRun();
+  const Model& first = run.first;
   REQUIRE(first.conversion.converted > 0);  // the checkpoint holds particles ...
   REQUIRE(activeTies(first) > 0);           // ... tied to element faces
   testing::TempFolder dir("checkpoint_bits");
   const std::string path = checkpointPath(dir.path.string(), first.step);
   RunProgress progress;
-  progress.scene_text = scene.source;
+  progress.scene_text = run.scene.source;
   writeCheckpoint(path, first, progress);
   REQUIRE(!fs::exists(path + ".tmp"));
 
   RunProgress read;
   Model continued = readCheckpoint(path, read);
-  REQUIRE(read.scene_text == scene.source);
+  REQUIRE(read.scene_text == run.scene.source);
   requireSameState(first, continued);
-  stepTo(continued, 2 * N);
-  requireSameState(unbroken, continued);
+  stepTo(continued, 2 * run.N);
+  requireSameState(run.unbroken, continued);
 }
 
 TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit-identically",
           "[unit][checkpoint]") {
   // Format 2 did not store the last step's pair stabilisation forces; the reader recomputes
   // them from the stored snapshot, so the continued run is the unbroken run, bit for bit.
-  const long N = 90;
-  const Scene scene = loadScene(kScene, {}, kLibrary);
-  Model unbroken = buildModel(scene);
-  stepTo(unbroken, 2 * N);
-
-  Model first = buildModel(scene);
-  stepTo(first, N);
+  const SplitRun& run = splitRun();
+  const Model& first = run.first;
   REQUIRE(first.sph.neighbours.pairs() > 0);
   // the forces to restore are not all zero (approaching pairs feel the viscosity)
   REQUIRE(std::any_of(first.sph.pair_stab.begin(), first.sph.pair_stab.end(),
@@ -193,8 +202,8 @@ TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit
   Model continued = readCheckpoint(path, read);
   REQUIRE(sameBits(continued.sph.pair_stab, first.sph.pair_stab));
   requireSameState(first, continued);
-  stepTo(continued, 2 * N);
-  requireSameState(unbroken, continued);
+  stepTo(continued, 2 * run.N);
+  requireSameState(run.unbroken, continued);
 }
 
 TEST_CASE("fesph run --restart continues the series and histories, also after a SIGINT",
