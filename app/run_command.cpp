@@ -69,9 +69,14 @@ int runCommand(const RunOptions& opt) {
   }
   progress.finish();
   session.printSummary();
-  session.writeSummary(folder + "/summary.toml", why == StopReason::Failed        ? "failed"
-                                                 : why == StopReason::Interrupted ? "interrupted"
-                                                                                  : "complete");
+  try {
+    session.writeSummary(folder + "/summary.toml", why == StopReason::Failed        ? "failed"
+                                                   : why == StopReason::Interrupted ? "interrupted"
+                                                                                    : "complete");
+  } catch (const RunError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = 1;
+  }
   if (!opt.no_images && why != StopReason::Interrupted) {
     // A failed image must not fail a finished run: warn and keep the exit code.
     std::printf("Images\n");

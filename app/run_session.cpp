@@ -153,6 +153,9 @@ bool RunSession::complete() const { return reached(model_.time, endTime()); }
 void RunSession::writeOutput() {
   series_->write(model_, model_.time);
   crossings_->writeCsv(folder() + "/residual_velocities.csv");
+  // A run killed outright (SIGKILL, the machine going down) cannot write its summary at the
+  // end: this one, at its last output, says how far it got instead of an earlier segment's.
+  writeSummary(folder() + "/summary.toml", "running");
 }
 
 StopReason RunSession::advance(double until_time, long max_steps,
@@ -212,7 +215,9 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
   const double wall_total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - opened_).count();
   const char* modes[] = {"none", "erosion", "sph"};
-  std::ofstream out(path);
+  // Written beside and renamed over the old one: a reader never sees half a summary.
+  const std::string tmp = path + ".tmp";
+  std::ofstream out(tmp);
   out.precision(10);
   out << "# fesph run summary\n"
       << "status = \"" << status << "\"\n"
@@ -228,6 +233,10 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
       << "eroded_mass_kg = " << m.conversion.eroded_mass << "\n"
       << "energy_balance = " << m.energy.balanceError() << "\n";
   if (element_steps_ > 0) out << "ns_per_element_step = " << 1e9 * wall_solver_ / element_steps_ << "\n";
+  out.close();
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (!out || ec) throw RunError("cannot write " + path + (ec ? ": " + ec.message() : ""));
 }
 
 void RunSession::printSummary() const {

@@ -78,8 +78,9 @@ class RunSession {
   /// The RunError message of a failed advance; empty otherwise.
   const std::string& failure() const { return failure_; }
 
-  /// Write summary.toml: `status` ("complete", "failed", "interrupted"), times, counts,
-  /// conversion settings, energy balance, cost. Read by `fesph report`.
+  /// Write summary.toml: `status` ("complete", "failed", "interrupted"; "running" at every
+  /// field output until the run ends; the shell's "paused"), times, counts, conversion
+  /// settings, energy balance, cost. Read by `fesph report`. Throws RunError.
   void writeSummary(const std::string& path, const std::string& status) const;
 
   /// Print the run summary (counts, wall time, energy budget, projectile figures) to stdout.

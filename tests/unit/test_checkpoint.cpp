@@ -11,6 +11,7 @@
 #include "tests/support/temp_folder.hpp"
 
 #include <catch2/catch.hpp>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +22,7 @@
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
+#include <vector>
 
 using namespace fesph;
 namespace fs = std::filesystem;
@@ -105,6 +107,27 @@ int shell(const std::string& cmd) {
 std::string runCmd(const std::string& args, const fs::path& log) {
   return std::string(FESPH_BINARY) + " run " + args + " --no-images --quiet > " + log.string() +
          " 2>&1";
+}
+
+// Start `cmd` in a shell of its own (exec'd, so that a signal reaches the run) and wait until
+// `ready` holds (polled every 20 ms, up to 8 s); returns the child's pid.
+template <class Ready> pid_t startAndWait(const std::string& cmd, Ready ready) {
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int k = 0; k < 400 && !ready(); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return pid;
+}
+
+std::size_t countOf(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+    ++n;
+  return n;
 }
 
 std::string sceneRun(const fs::path& out, const std::string& extra = "") {
@@ -237,18 +260,8 @@ TEST_CASE("fesph run --restart continues the series and histories, also after a 
   REQUIRE(slurp(other / "history.csv").size() < slurp(whole / "history.csv").size());
 
   // Interrupted run: SIGINT once it has written a few history rows (5 steps a row).
-  const std::string cmd = "exec " + runCmd(sceneRun(cut), dir.path / "cut.log");
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  for (int k = 0; k < 400; ++k) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    const std::string csv = slurp(cut / "history.csv");
-    if (std::count(csv.begin(), csv.end(), '\n') >= 8) break;
-  }
+  const pid_t pid = startAndWait(runCmd(sceneRun(cut), dir.path / "cut.log"),
+                                 [&] { return countOf(slurp(cut / "history.csv"), "\n") >= 8; });
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
@@ -266,6 +279,35 @@ TEST_CASE("fesph run --restart continues the series and histories, also after a 
   REQUIRE(log.find("checkpoint written to " + cut_ckpts.back()) != std::string::npos);
   REQUIRE(shell(runCmd("--restart " + cut_ckpts.back(), dir.path / "rest.log")) == 0);
   requireSameOutputs(whole, cut);
+}
+
+TEST_CASE("a run killed outright leaves a summary that says how far it got", "[unit][checkpoint]") {
+  // SIGKILL cannot be caught, so the end-of-run summary is never written; the one rewritten
+  // at every field output must then say "running" at the last output the series lists (or,
+  // killed between that output's files and its summary, the one before).
+  testing::TempFolder dir("killed");
+  const fs::path out = dir.path / "run";
+  const pid_t pid =
+      startAndWait(runCmd(sceneRun(out, "--set output.interval=0.25e-6"), dir.path / "log"),
+                   [&] { return countOf(slurp(out / "elements.pvd"), "<DataSet") >= 3; });
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFSIGNALED(status));
+  const std::string pvd = slurp(out / "elements.pvd");
+  std::vector<double> times;
+  for (std::size_t at = pvd.find("timestep=\""); at != std::string::npos;
+       at = pvd.find("timestep=\"", at + 1))
+    times.push_back(std::stod(pvd.substr(at + 10, pvd.find('"', at + 10) - at - 10)));
+  REQUIRE(times.size() >= 3);
+  const toml::table summary = toml::parse_file((out / "summary.toml").string());
+  REQUIRE(summary["status"].value_or(std::string()) == "running");
+  const double t = summary["time"].value_or(-1.0);
+  INFO("summary time " << t << ", outputs " << times.size() << ", last at " << times.back());
+  REQUIRE(t < 1.5e-6);
+  const auto near = [&](double a) { return std::abs(t - a) <= 1e-9 * a; };
+  REQUIRE((near(times.back()) || near(times[times.size() - 2])));
+  REQUIRE(summary["steps"].value_or(0L) > 0);
 }
 
 TEST_CASE("a run stopped by its time step floor names the cause and keeps valid files",
