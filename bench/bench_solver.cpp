@@ -5,7 +5,8 @@
 // docs/performance.md says how the figures in it were taken.
 //   BM_Stream        memory bandwidth (triad a = b + s c over 3 x 256 MB), bytes/s
 //   BM_ElementKernel computeElementForces: tet4 + Johnson-Cook + ANP + EOS + bulk q + gather
-//   BM_SphForces     computeParticleForces at ~55 neighbours (Verlet list amortised)
+//   BM_SphForces     computeParticleForces at ~55 neighbours (Verlet list amortised),
+//                    particles in lattice or in random order
 //   BM_Neighbours    SPH neighbour build from scratch (cell grid)
 //   BM_ContactPass   node-face contact: broad phase + 3 correction passes
 //   BM_ImpactStep    full step of a projectile in a plate (~190k tets at the middle size),
@@ -25,6 +26,8 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include <algorithm>
+#include <random>
 #include <vector>
 
 using namespace fesph;
@@ -113,7 +116,9 @@ void BM_ElementKernel(benchmark::State& state) {
 
 // An n^3 lattice of copper particles (0.25 mm spacing), h = 1.2 spacing: ~55 neighbours
 // inside. A uniform compression keeps the neighbour list in use across steps.
-Model particleCube(int n) {
+// shuffled: the particles in a random order (fixed seed) instead of the lattice's. Converted
+// particles are numbered in the order their elements converted, far from spatial order.
+Model particleCube(int n, bool shuffled = false) {
   Model m;
   m.materials.push_back(library().get("OFHC_copper"));
   const double d = 0.25e-3;
@@ -121,6 +126,7 @@ Model particleCube(int n) {
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) x.push_back(d * Vec3(i + 0.5, j + 0.5, k + 0.5));
+  if (shuffled) std::shuffle(x.begin(), x.end(), std::mt19937(12345));
   addParticleBody(m, "cube", x, std::vector<double>(x.size(), d * d * d), 0, Vec3::Zero(),
                   true, 1.2);
   const Vec3 centre = 0.5 * n * d * Vec3::Ones();
@@ -134,8 +140,8 @@ double meanNeighbours(const Model& m) {
 }
 
 void BM_SphForces(benchmark::State& state) {
-  setThreads(state, 1);
-  Model m = particleCube(static_cast<int>(state.range(0)));
+  setThreads(state, 2);
+  Model m = particleCube(static_cast<int>(state.range(0)), state.range(1) != 0);
   for (int i = 0; i < 5; ++i) step(m, 1.0);
   for (auto _ : state) step(m, 1.0);  // a particle step: forces, time step, integration
   countItems(state, "particles", static_cast<double>(m.particles.size()));
@@ -228,7 +234,8 @@ BENCHMARK(BM_Stream)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMilli
 BENCHMARK(BM_ElementKernel)->ArgsProduct({{10, 20, 32}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 // n^3 particles: 8k, 27k, 64k
-BENCHMARK(BM_SphForces)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
+BENCHMARK(BM_SphForces)->ArgsProduct({{20, 30, 40}, {0, 1}, {1, 2}})
+    ->ArgNames({"n", "shuffled", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Neighbours)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
