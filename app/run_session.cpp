@@ -218,6 +218,7 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
   // Written beside and renamed over the old one: a reader never sees half a summary.
   const std::string tmp = path + ".tmp";
   std::ofstream out(tmp);
+  if (!out.is_open()) throw RunError("cannot write " + tmp);
   out.precision(10);
   out << "# fesph run summary\n"
       << "status = \"" << status << "\"\n"
@@ -235,8 +236,12 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
   if (element_steps_ > 0) out << "ns_per_element_step = " << 1e9 * wall_solver_ / element_steps_ << "\n";
   out.close();
   std::error_code ec;
+  if (!out) {  // the old summary stays as it was; the half-written file goes
+    std::filesystem::remove(tmp, ec);
+    throw RunError("cannot write " + tmp);
+  }
   std::filesystem::rename(tmp, path, ec);
-  if (!out || ec) throw RunError("cannot write " + path + (ec ? ": " + ec.message() : ""));
+  if (ec) throw RunError("cannot write " + path + ": " + ec.message());
 }
 
 void RunSession::printSummary() const {

@@ -310,6 +310,19 @@ TEST_CASE("a run killed outright leaves a summary that says how far it got", "[u
   REQUIRE(summary["steps"].value_or(0L) > 0);
 }
 
+TEST_CASE("a summary that cannot be written stops the run with an error naming it",
+          "[unit][checkpoint]") {
+  testing::TempFolder dir("summary_blocked");
+  const fs::path out = dir.path / "run";
+  fs::create_directories(out / "summary.toml.tmp");  // a folder where the file must go
+  REQUIRE(shell(runCmd(sceneRun(out), dir.path / "log")) == 1);
+  const std::string log = slurp(dir.path / "log");
+  INFO(log);
+  REQUIRE(log.find("cannot write " + (out / "summary.toml.tmp").string()) != std::string::npos);
+  REQUIRE(log.find("run stopped at t = 0 s") != std::string::npos);
+  REQUIRE(!fs::exists(out / "summary.toml"));
+}
+
 TEST_CASE("a run stopped by its time step floor names the cause and keeps valid files",
           "[unit][checkpoint]") {
   testing::TempFolder dir("dt_floor");
