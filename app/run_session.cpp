@@ -4,6 +4,7 @@
 #include "core/analysis/fragments.hpp"
 #include "core/analysis/plate_crossings.hpp"
 #include "core/common/error.hpp"
+#include "core/io/replace_file.hpp"
 #include "core/solver/figures_of_merit.hpp"
 #include "core/solver/step.hpp"
 #include "core/state/model_build.hpp"
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <sstream>
 
 namespace fesph {
 
@@ -215,10 +217,7 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
   const double wall_total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - opened_).count();
   const char* modes[] = {"none", "erosion", "sph"};
-  // Written beside and renamed over the old one: a reader never sees half a summary.
-  const std::string tmp = path + ".tmp";
-  std::ofstream out(tmp);
-  if (!out.is_open()) throw RunError("cannot write " + tmp);
+  std::ostringstream out;
   out.precision(10);
   out << "# fesph run summary\n"
       << "status = \"" << status << "\"\n"
@@ -234,14 +233,7 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
       << "eroded_mass_kg = " << m.conversion.eroded_mass << "\n"
       << "energy_balance = " << m.energy.balanceError() << "\n";
   if (element_steps_ > 0) out << "ns_per_element_step = " << 1e9 * wall_solver_ / element_steps_ << "\n";
-  out.close();
-  std::error_code ec;
-  if (!out) {  // the old summary stays as it was; the half-written file goes
-    std::filesystem::remove(tmp, ec);
-    throw RunError("cannot write " + tmp);
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw RunError("cannot write " + path + ": " + ec.message());
+  replaceFile(path, out.str());  // a reader never sees half a summary
 }
 
 void RunSession::printSummary() const {

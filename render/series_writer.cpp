@@ -4,6 +4,7 @@
 #include "render/series_writer.hpp"
 
 #include "core/common/error.hpp"
+#include "core/io/replace_file.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -37,19 +38,6 @@ namespace fesph {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Same folder as the target, so the rename never crosses a file system and stays atomic.
-fs::path temporaryFor(const fs::path& target) { return fs::path(target).concat(".tmp"); }
-
-void renameInto(const fs::path& tmp, const fs::path& target) {
-  if (std::rename(tmp.c_str(), target.c_str()) != 0) {
-    const std::error_code ec(errno, std::generic_category());
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw RunError("cannot rename " + tmp.string() + " to " + target.string() + ": " +
-                   ec.message());
-  }
-}
 
 std::string shortest(double value) {
   char buf[32];
@@ -115,14 +103,14 @@ void writeXml(vtkXMLWriter& w, const fs::path& target) {
   w.EncodeAppendedDataOff();  // raw bytes, not base64
   w.SetCompressorTypeToZLib();
   w.SetHeaderTypeToUInt64();  // block headers safe beyond 4 GiB
-  const fs::path tmp = temporaryFor(target);
+  const fs::path tmp = temporaryFor(target.string());
   w.SetFileName(tmp.c_str());
   if (w.Write() != 1 || w.GetErrorCode() != 0) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
     throw RunError("cannot write " + target.string());
   }
-  renameInto(tmp, target);
+  renameInto(tmp.string(), target.string());
 }
 
 vtkNew<vtkDoubleArray> doubleArray(const char* name, int components, vtkIdType tuples) {
@@ -186,7 +174,7 @@ void PvdCollection::add(double time, const std::string& file) {
 }
 
 void PvdCollection::save() const {
-  const fs::path tmp = temporaryFor(path_);
+  const fs::path tmp = temporaryFor(path_.string());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out << "<?xml version=\"1.0\"?>\n"
@@ -204,7 +192,7 @@ void PvdCollection::save() const {
       throw RunError("cannot write " + path_.string());
     }
   }
-  renameInto(tmp, path_);
+  renameInto(tmp.string(), path_.string());
 }
 
 // ---- SeriesWriter ------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 
 #include "core/common/error.hpp"
 #include "core/io/hdf5.hpp"
+#include "core/io/replace_file.hpp"
 #include "core/io/run_metadata.hpp"
 #include "core/sph/sph_forces.hpp"
 
@@ -572,7 +573,7 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
 }  // namespace
 
 void writeCheckpoint(const std::string& path, const Model& model, const RunProgress& run) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = temporaryFor(path);
   {
     h5::Handle file = h5::openFile(tmp, h5::Mode::Create);
     h5::writeAttribute(file, "format", std::string(kFormat));
@@ -582,12 +583,7 @@ void writeCheckpoint(const std::string& path, const Model& model, const RunProgr
     transfer(w, const_cast<Model&>(model));  // the writer only reads
     transfer(w, const_cast<RunProgress&>(run));
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::error_code ec(errno, std::generic_category());
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw RunError("cannot rename " + tmp + " to " + path + ": " + ec.message());
-  }
+  renameInto(tmp, path);
 }
 
 Model readCheckpoint(const std::string& path, RunProgress& run) {

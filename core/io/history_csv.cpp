@@ -2,6 +2,7 @@
 #include "core/io/history_csv.hpp"
 
 #include "core/common/error.hpp"
+#include "core/io/replace_file.hpp"
 #include "core/state/model_build.hpp"
 
 #include <cerrno>
@@ -35,14 +36,7 @@ HistoryCsv::HistoryCsv(const std::string& path, std::size_t rows) : path_(path) 
   if (lines < rows + 1)
     throw RunError(path + ": " + std::to_string(lines ? lines - 1 : 0) + " rows, the checkpoint "
                    "expects " + std::to_string(rows));
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << kept;
-    if (!out) throw RunError("cannot write history file " + tmp);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw RunError("cannot rename " + tmp + ": " + std::strerror(errno));
+  replaceFile(path, kept);
   out_.open(path, std::ios::app);
   if (!out_) throw RunError("cannot write history file " + path);
 }
