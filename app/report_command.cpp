@@ -53,6 +53,9 @@ struct ReportRun {
   Scene scene;                  ///< the scene as run
   toml::table summary;          ///< summary.toml (empty when the run wrote none)
   std::vector<double> residual; ///< after each plate, m/s; NaN: not measured
+  std::vector<double> piece_fraction;    ///< the intact piece's share of the initial mass
+  std::vector<double> through_velocity;  ///< all projectile material through the plate, m/s
+  std::vector<double> through_fraction;  ///< its share of the initial mass
 };
 
 double summaryNumber(const ReportRun& r, const char* key) {
@@ -89,11 +92,23 @@ ReportRun readRun(const fs::path& dir) {
     std::snprintf(label, sizeof label, "FE");
   r.label = std::string(label) + " (" + r.scene.resolution + ", " + dir.filename().string() + ")";
   for (const CsvRow& row : readCsv(dir / "residual_velocities.csv")) {
-    const auto it = row.find("residual_velocity_m_s");
-    r.residual.push_back(it != row.end() && !it->second.empty() ? std::stod(it->second)
-                                                                : std::nan(""));
+    auto number = [&](const char* key) {  // NaN: not measured (or a column older runs lack)
+      const auto it = row.find(key);
+      return it != row.end() && !it->second.empty() ? std::stod(it->second) : std::nan("");
+    };
+    r.residual.push_back(number("residual_velocity_m_s"));
+    r.piece_fraction.push_back(number("mass_fraction"));
+    r.through_velocity.push_back(number("through_velocity_m_s"));
+    r.through_fraction.push_back(number("through_mass_fraction"));
   }
   return r;
+}
+
+std::string percent(double fraction) {
+  if (!std::isfinite(fraction)) return "-";
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f %%", 100 * fraction);
+  return s;
 }
 
 std::string velocity(double v) {
@@ -179,6 +194,31 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
     md << "\n";
     csv << "\n";
   }
+
+  // What of the projectile got through each plate: the intact piece against all its material.
+  std::ofstream through_csv(out / "through.csv");
+  through_csv << "plate,run,piece_velocity_m_s,piece_mass_fraction,through_velocity_m_s,"
+                 "through_mass_fraction\n";
+  md << "\n## What of the projectile got through each plate\n\n"
+     << "At the instant v_k is taken: the largest intact piece (its speed is v_k) and all the "
+        "projectile's material past the plate's rear face (live elements and the particles born "
+        "from its elements), each with its share of the projectile's initial mass; the second "
+        "velocity is that material's momentum over its mass, with its error against the "
+        "experiment's v_k. Where the projectile breaks up, its intact rear goes on faster than "
+        "the material the plate slowed.\n\n"
+     << "| plate | run | intact piece | its mass | all material through | error | its mass |\n"
+        "|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < plates; ++k)
+    for (const ReportRun& r : runs) {
+      const double v_all = at(r.through_velocity, k);
+      md << "| v" << k + 1 << " | " << r.label << " | " << velocity(at(r.residual, k)) << " | "
+         << percent(at(r.piece_fraction, k)) << " | " << velocity(v_all) << " | "
+         << error(v_all, at(ref.experiment, k)) << " | " << percent(at(r.through_fraction, k))
+         << " |\n";
+      through_csv << k + 1 << "," << r.label << "," << velocity(at(r.residual, k)) << ","
+                  << at(r.piece_fraction, k) << "," << velocity(v_all) << ","
+                  << at(r.through_fraction, k) << "\n";
+    }
 
   // Runs: settings, cost, energy budget.
   std::ofstream runs_csv(out / "runs.csv");

@@ -275,10 +275,14 @@ void RunSession::printSummary() const {
   const auto& plates = crossings_->plates();
   for (std::size_t k = 0; k < plates.size(); ++k) {
     const PlateCrossing& p = plates[k];
-    if (p.t_measured >= 0)
+    if (p.t_measured >= 0) {
       std::printf("  after plate %zu    %.1f m/s at t = %.4g s ('%s'; piece %.1f %% of the mass)\n",
                   k + 1, p.speed, p.t_measured, p.name.c_str(), 100 * p.mass_fraction);
-    else
+      if (std::isfinite(p.through_mass_fraction))
+        std::printf("                   all projectile material through it: %.1f m/s, %.1f %% of "
+                    "the mass\n",
+                    p.through_velocity.norm(), 100 * p.through_mass_fraction);
+    } else
       std::printf("  after plate %zu    not measured (%s)\n", k + 1,
                   p.t_contact >= 0 ? "hit, not through yet" : "not reached");
   }

@@ -4,6 +4,7 @@
 #include "core/analysis/fragments.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -29,6 +30,22 @@ double bodyLeadingDepth(const Model& model, const PlateCrossing& p, int body) {
 }
 
 }  // namespace
+
+MaterialPast materialPast(const Model& model, const PlateCrossing& p, int body, double depth) {
+  MaterialPast out;
+  Vec3 momentum = Vec3::Zero();
+  auto add = [&](const Vec3& x, const Vec3& v, double m) {
+    if (m > 0 && -(x - p.front).dot(p.normal) > depth) out.mass += m, momentum += m * v;
+  };
+  const Body& b = model.bodies[body];
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a)
+    add(model.nodes.x[a], model.nodes.v[a], model.nodes.m[a]);
+  const Particles& pa = model.particles;
+  for (std::size_t i = 0; i < pa.size(); ++i)
+    if (pa.body[i] == body) add(pa.x[i], pa.v[i], pa.m[i]);
+  if (out.mass > 0) out.velocity = momentum / out.mass;
+  return out;
+}
 
 PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
   for (std::size_t b = 0; b < model.bodies.size(); ++b)
@@ -95,6 +112,9 @@ void PlateCrossings::update(const Model& model) {
     p.speed = p.velocity.norm();
     const double m0 = bodyInitialMass(model, projectile_);
     p.mass_fraction = m0 > 0 ? pieces.front().mass / m0 : 0.0;
+    const MaterialPast through = materialPast(model, p, projectile_, p.thickness);
+    p.through_velocity = through.velocity;
+    p.through_mass_fraction = m0 > 0 ? through.mass / m0 : 0.0;
     ++next_;
   }
 }
@@ -102,18 +122,23 @@ void PlateCrossings::update(const Model& model) {
 void PlateCrossings::writeCsv(const std::string& path) const {
   std::ofstream out(path);
   out << "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
-         "mass_fraction\n";
+         "mass_fraction,through_velocity_m_s,through_mass_fraction\n";
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const PlateCrossing& p = plates_[k];
     char row[512];
-    if (p.t_measured >= 0)
-      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g\n", k + 1,
+    if (p.t_measured >= 0 && !std::isfinite(p.through_mass_fraction))
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,,\n", k + 1,
                     p.name.c_str(), p.t_contact, p.t_measured, p.speed, p.velocity.x(),
                     p.velocity.y(), p.velocity.z(), p.mass_fraction);
+    else if (p.t_measured >= 0)
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n",
+                    k + 1, p.name.c_str(), p.t_contact, p.t_measured, p.speed, p.velocity.x(),
+                    p.velocity.y(), p.velocity.z(), p.mass_fraction, p.through_velocity.norm(),
+                    p.through_mass_fraction);
     else if (p.t_contact >= 0)
-      std::snprintf(row, sizeof row, "%zu,%s,%.9g,,,,,,\n", k + 1, p.name.c_str(), p.t_contact);
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,,,,,,,,\n", k + 1, p.name.c_str(), p.t_contact);
     else
-      std::snprintf(row, sizeof row, "%zu,%s,,,,,,,\n", k + 1, p.name.c_str());
+      std::snprintf(row, sizeof row, "%zu,%s,,,,,,,,,\n", k + 1, p.name.c_str());
     out << row;
   }
 }

@@ -9,12 +9,20 @@
 //         plate k, just before the next impact; the last plate gets a virtual next plate at
 //         the same gap. g = the smallest clear gap between consecutive plates, or, for a
 //         single plate, the projectile's length.
+//
+// Beside it, at the same instant, what of the projectile got through plate k: the mass and the
+// mass-weighted velocity of all its material (the live nodes' lumped masses and the particles
+// born from its elements) deeper than the plate's rear face. The intact piece says how fast the
+// projectile goes on; this says how much momentum the plate took from the projectile's mass.
+// When the projectile breaks up the two differ: its converted nose and debris travel slower
+// than its intact rear.
 #pragma once
 
 #include "core/common/types.hpp"
 #include "core/scene/scene.hpp"
 #include "core/state/model.hpp"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,7 +41,19 @@ struct PlateCrossing {
   Vec3 velocity = Vec3::Zero(); ///< v_k as a vector, m/s
   double speed = 0;             ///< |v_k|, m/s
   double mass_fraction = 0;     ///< the piece's mass over the projectile's initial mass
+  /// All projectile material past the rear face when v_k was taken, m/s, and its mass over the
+  /// projectile's initial mass; NaN where unknown (a run continued from a format-3 checkpoint).
+  Vec3 through_velocity = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  double through_mass_fraction = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// Mass (kg) and mass-weighted mean velocity (m/s) of the material of `body` (live nodes with
+/// mass, and particles of that body) lying deeper than `depth` behind the front face of `p`.
+struct MaterialPast {
+  double mass = 0;
+  Vec3 velocity = Vec3::Zero();
+};
+MaterialPast materialPast(const Model& model, const PlateCrossing& p, int body, double depth);
 
 class PlateCrossings {
  public:

@@ -27,7 +27,8 @@ constexpr const char* kFormat = "fesph checkpoint";
 // Bump with every change of what transfer() stores: an older file then gets a clear error.
 // 2: the SPH Verlet skin and last step's pair list and gradients.
 // 3: the pairs' stabilisation forces (pair_stab), looked up by the next step.
-constexpr std::int64_t kFormatVersion = 3;
+// 4: what of the projectile got through each plate (PlateCrossing::through_*).
+constexpr std::int64_t kFormatVersion = 4;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -487,6 +488,10 @@ template <class Ar> void transfer(Ar& ar, RunProgress& r) {
         {"t_contact", &p.t_contact}, {"t_measured", &p.t_measured}, {"speed", &p.speed},
         {"mass_fraction", &p.mass_fraction}};
     for (auto [key, x] : numbers) ar.value(key, *x);
+    if (ar.version >= 4) {  // format 3 leaves them unknown (NaN)
+      ar.value("through_velocity", p.through_velocity);
+      ar.value("through_mass_fraction", p.through_mass_fraction);
+    }
     ar.leave();
   }
   ar.leave();

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The residual velocity after each plate is taken where its definition says (plate_crossings.hpp).
+#include "core/analysis/fragments.hpp"
 #include "core/analysis/plate_crossings.hpp"
+#include "core/conversion/convert.hpp"
 #include "core/solver/step.hpp"
 
 #include <catch2/catch.hpp>
@@ -86,6 +88,9 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   for (const PlateCrossing& c : p) {
     CHECK(c.speed == Approx(1000.0).epsilon(1e-9));  // free flight: unchanged
     CHECK(c.mass_fraction == Approx(1.0).epsilon(1e-12));
+    // The whole shot is past the rear face by then (its tail, 6 mm behind the nose, too).
+    CHECK(c.through_velocity.norm() == Approx(1000.0).epsilon(1e-9));
+    CHECK(c.through_mass_fraction == Approx(1.0).epsilon(1e-12));
   }
   crossings.writeCsv((dir / "rv.csv").string());
   std::ifstream in(dir / "rv.csv");
@@ -93,4 +98,42 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   ss << in.rdbuf();
   CHECK(ss.str().find("1,first,") != std::string::npos);
   CHECK(ss.str().find("2,second,") != std::string::npos);
+  CHECK(ss.str().find(",through_velocity_m_s,through_mass_fraction") != std::string::npos);
+}
+
+TEST_CASE("material past a plate counts the live nodes and the particles of the body",
+          "[unit][analysis]") {
+  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_past";
+  fs::create_directories(dir);
+  const std::string path = (dir / "scene.toml").string();
+  std::ofstream(path) << kScene;
+  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  Model m = buildModel(sc);
+  const int shot = 0;
+  const double m0 = bodyInitialMass(m, shot);
+  // Convert the elements of the shot's front half (nose at z = 1 mm, tail at 7 mm) and slow
+  // their particles to 400 m/s; the nodes keep 1000 m/s.
+  m.controls.conversion.mode = ConversionMode::Sph;
+  const Body& b = m.bodies[shot];
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
+    double zc = 0;
+    for (int a : m.elems.conn[e]) zc += 0.25 * m.nodes.x[a].z();
+    if (zc < 4e-3) m.elems.state[e].eps_p = 1.0;
+  }
+  REQUIRE(convertElements(m, 1.3) > 0);
+  double m_particles = 0, m_nodes = 0;
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    m.particles.v[i] = Vec3(0, 0, -400), m_particles += m.particles.m[i];
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) m_nodes += m.nodes.m[a];
+  REQUIRE(m_particles + m_nodes == Approx(m0).epsilon(1e-12));  // mass moved, not lost
+
+  PlateCrossing plane;  // a plate whose rear face (1 mm thick) lies at z = 20 mm: all is past
+  plane.front = Vec3(0, 0, 21e-3);
+  const MaterialPast all = materialPast(m, plane, shot, 1e-3);
+  CHECK(all.mass == Approx(m0).epsilon(1e-12));  // the plates, past it too, do not count
+  CHECK(all.velocity.z() == Approx(-(1000 * m_nodes + 400 * m_particles) / m0).epsilon(1e-12));
+  CHECK(all.velocity.x() == 0.0);
+  // A rear face at z = -5 mm: nothing of the shot is past it yet.
+  plane.front = Vec3(0, 0, -4e-3);
+  CHECK(materialPast(m, plane, shot, 1e-3).mass == 0.0);
 }

@@ -96,6 +96,11 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   CHECK(md.find("FE (default, fe)") != std::string::npos);
   CHECK(md.find("erosion 0.4 (default, ero)") != std::string::npos);
   CHECK(md.find("| complete |") != std::string::npos);
+  // What got through: the whole shot, at the intact piece's speed.
+  CHECK(md.find("| v1 | FE (default, fe) | 1000.0 | 100.0 % | 1000.0 | +25.0 % | 100.0 % |") !=
+        std::string::npos);
+  CHECK(read(tmp.path / "rep" / "through.csv").find("2,FE (default, fe),1000.0,1,1000.0,1") !=
+        std::string::npos);
   const std::string table = read(tmp.path / "rep" / "table1.csv");
   CHECK(table.find("1,800.0,1000.0,1000.0,1000.0") != std::string::npos);
   // One row per run, the plot, and each run's plate images (drawn by the report: the runs had
