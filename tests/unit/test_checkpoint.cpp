@@ -391,6 +391,27 @@ TEST_CASE("a non-finite state stops the run naming the node, element, body and t
   }
 }
 
+TEST_CASE("an energy budget that stops closing stops the run naming where", "[unit][checkpoint]") {
+  const Scene scene = loadScene(kScene, {}, kLibrary);
+  Model model = buildModel(scene);
+  stepTo(model, 3);
+  // A node of the projectile kicked to 40 times the shot's speed: finite, but the kinetic
+  // energy jumps far past the 10 % the budget may miss.
+  const int node = model.elems.conn[model.bodies[0].elem_begin][0];
+  model.nodes.v[node] *= 40.0;
+  try {
+    step(model, model.controls.end_time);
+    FAIL("no error");
+  } catch (const RunError& e) {
+    const std::string what = e.what();
+    INFO(what);
+    REQUIRE(what.find("energy balance error ") != std::string::npos);
+    REQUIRE(what.find("gone unstable") != std::string::npos);
+    REQUIRE(what.find("node " + std::to_string(node) + " of body 'projectile'") !=
+            std::string::npos);
+  }
+}
+
 TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit][checkpoint]") {
   testing::TempFolder dir("bad_checkpoints");
   const Scene scene = loadScene(kScene, {}, kLibrary);
