@@ -9,6 +9,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 using namespace fesph;
@@ -72,4 +75,31 @@ TEST_CASE("Taylor experiment: OFHC copper at 190 m/s (Johnson & Cook 1983)",
   const TaylorResult locked =
       runTaylor("taylor_ofhc_1983/scene.toml", {"simulation.average_nodal_pressure=false"});
   CHECK(locked.foot_radius < r.foot_radius);  // locking: a smaller foot
+}
+
+TEST_CASE("Taylor OFHC bar: the 3D tets agree with an independent 2D axisymmetric code",
+          "[verification][taylor][slow]") {
+  // Reference: tools/axisym_taylor.cpp, written apart from core (quads in r-z, one-point with
+  // hourglass control or selective-reduced, its own JC return), the same constants and
+  // 190 m/s. Converged it gives 17.35 mm (16 cells across the radius 17.335 mm, 32 cells
+  // 17.353, 48 cells 17.361; foot 14.61 / 14.71 / 14.74 mm). Must hold: the lengths within 1 %
+  // and the foot diameters within 4 % (the 2-D code resolves the rim of the foot finer).
+  // Both codes miss the test's 16.21 mm by the same 7 %: the JC 1983 constants' rate term,
+  // not the discretisation (docs/materials.md).
+  const TaylorResult r = runTaylor("taylor_ofhc_1983/scene.toml", {});
+  const std::string out = (std::filesystem::temp_directory_path() / "fesph_axisym.txt").string();
+  REQUIRE(std::system((std::string(FESPH_AXISYM_BINARY) + " --case ofhc --nr 16 > " + out).c_str()) == 0);
+  std::ifstream in(out);
+  double length = 0, diameter = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("final length") != std::string::npos)
+      length = 1e-3 * std::stod(line.substr(line.find_first_of("0123456789")));
+    if (const auto at = line.find("diameter "); at != std::string::npos)
+      diameter = 1e-3 * std::stod(line.substr(at + 9));
+  }
+  std::printf("axisymmetric code: length %.3f mm, foot diameter %.3f mm\n", 1e3 * length,
+              1e3 * diameter);
+  REQUIRE(length > 0);
+  CHECK(std::abs(r.length - length) < 0.01 * length);
+  CHECK(std::abs(2 * r.foot_radius - diameter) < 0.04 * diameter);
 }
