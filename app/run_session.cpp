@@ -206,7 +206,12 @@ StopReason RunSession::advance(double until_time, long max_steps,
     } catch (const RunError& h) {
       failure_ += std::string(" (and the last history row was not written: ") + h.what() + ")";
     }
-    crossings_->writeCsv(folder() + "/residual_velocities.csv");
+    try {
+      crossings_->writeCsv(folder() + "/residual_velocities.csv");
+    } catch (const RunError& c) {
+      failure_ += std::string(" (and the residual velocities were not rewritten: ") + c.what() +
+                  ")";
+    }
     return StopReason::Failed;
   }
 }

@@ -11,7 +11,7 @@
 //   BM_ContactPass   node-face contact: broad phase + 3 correction passes
 //   BM_ImpactStep    full step of a projectile in a plate (~190k tets at the middle size),
 //                    contact and erosion (mode 1) or FE -> SPH conversion (mode 2)
-//   BM_FourPlates    full step of scenes/four_plates_normal (quick and default resolutions)
+//   BM_FourPlates    full step of scenes/four_plates_normal (quick, default and fine resolutions)
 #include "core/contact/node_face_contact.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/material/library.hpp"
@@ -214,7 +214,8 @@ void BM_ImpactStep(benchmark::State& state) {
 // The four-plate scene meshed at a resolution preset, early in the impact on plate 1.
 void BM_FourPlates(benchmark::State& state) {
   setThreads(state, 1);
-  const char* preset = state.range(0) == 0 ? "quick" : "default";
+  const char* const presets[] = {"quick", "default", "fine"};
+  const char* preset = presets[state.range(0)];
   const Scene scene =
       loadScene(std::string(FESPH_SOURCE_DIR) + "/scenes/four_plates_normal/scene.toml",
                 {std::string("resolution=\"") + preset + "\""});
@@ -245,8 +246,8 @@ BENCHMARK(BM_ContactPass)->ArgsProduct({{10, 16, 20}, {1, 2}})->ArgNames({"n", "
 BENCHMARK(BM_ImpactStep)->ArgsProduct({{10, 16, 20}, {1, 2}, {1, 2}})
     ->ArgNames({"n", "mode", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// resolution 0: quick, 1: default
-BENCHMARK(BM_FourPlates)->ArgsProduct({{0, 1}, {1, 2}})->ArgNames({"resolution", "threads"})
+// resolution 0: quick (31k tets), 1: default (186k), 2: fine (479k)
+BENCHMARK(BM_FourPlates)->ArgsProduct({{0, 1, 2}, {1, 2}})->ArgNames({"resolution", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

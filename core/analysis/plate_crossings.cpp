@@ -2,11 +2,11 @@
 #include "core/analysis/plate_crossings.hpp"
 
 #include "core/analysis/fragments.hpp"
+#include "core/io/replace_file.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 
 namespace fesph {
@@ -120,9 +120,9 @@ void PlateCrossings::update(const Model& model) {
 }
 
 void PlateCrossings::writeCsv(const std::string& path) const {
-  std::ofstream out(path);
-  out << "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
-         "mass_fraction,through_velocity_m_s,through_mass_fraction\n";
+  std::string text =
+      "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
+      "mass_fraction,through_velocity_m_s,through_mass_fraction\n";
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const PlateCrossing& p = plates_[k];
     char row[512];
@@ -139,8 +139,11 @@ void PlateCrossings::writeCsv(const std::string& path) const {
       std::snprintf(row, sizeof row, "%zu,%s,%.9g,,,,,,,,\n", k + 1, p.name.c_str(), p.t_contact);
     else
       std::snprintf(row, sizeof row, "%zu,%s,,,,,,,,,\n", k + 1, p.name.c_str());
-    out << row;
+    text += row;
   }
+  // rewritten at every output: through a temporary, so that a run killed mid-write keeps the
+  // last complete table, and a write that fails stops the run instead of losing it silently
+  replaceFile(path, text);
 }
 
 }  // namespace fesph

@@ -67,6 +67,7 @@ class PlateCrossings {
   const std::vector<PlateCrossing>& plates() const { return plates_; }
   int projectile() const { return projectile_; }
   /// residual_velocities.csv: one row per plate, empty fields where nothing was measured.
+  /// Replaces the file whole; throws RunError naming it if it cannot be written.
   void writeCsv(const std::string& path) const;
 
  private:

@@ -99,6 +99,16 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   CHECK(ss.str().find("1,first,") != std::string::npos);
   CHECK(ss.str().find("2,second,") != std::string::npos);
   CHECK(ss.str().find(",through_velocity_m_s,through_mass_fraction") != std::string::npos);
+
+  // A table that cannot be written is an error naming the file, and the last one stays whole.
+  fs::create_directories(dir / "rv.csv.tmp");  // a folder where the temporary must go
+  CHECK_THROWS_WITH(crossings.writeCsv((dir / "rv.csv").string()),
+                    Catch::Contains((dir / "rv.csv.tmp").string()));
+  std::ifstream again(dir / "rv.csv");
+  std::stringstream kept;
+  kept << again.rdbuf();
+  CHECK(kept.str() == ss.str());
+  fs::remove_all(dir / "rv.csv.tmp");
 }
 
 TEST_CASE("material past a plate counts the live nodes and the particles of the body",
