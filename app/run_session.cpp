@@ -3,6 +3,7 @@
 
 #include "core/analysis/fragments.hpp"
 #include "core/analysis/plate_crossings.hpp"
+#include "core/analysis/symmetry_leak.hpp"
 #include "core/common/error.hpp"
 #include "core/io/replace_file.hpp"
 #include "core/solver/figures_of_merit.hpp"
@@ -291,6 +292,13 @@ void RunSession::printSummary() const {
       std::printf("  after plate %zu    not measured (%s)\n", k + 1,
                   p.t_contact >= 0 ? "hit, not through yet" : "not reached");
   }
+  for (const SymmetryLeak& leak : particlesAcrossSymmetry(model, scene_.symmetry))
+    if (leak.particles > 0)
+      std::printf("  symmetry plane   %ld particles (%.4g kg, %.1f %% of the particles' mass) are "
+                  "across %c = %g m: particles get no mirror image there (known defect, "
+                  "docs/sph.md)\n",
+                  leak.particles, leak.mass, 100 * leak.mass_fraction,
+                  static_cast<char>('x' + leak.plane->axis), leak.plane->position);
   std::printf("  output           %s\n", folder().c_str());
 }
 
