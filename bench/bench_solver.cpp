@@ -246,7 +246,7 @@ BENCHMARK(BM_ContactPass)->ArgsProduct({{10, 16, 20}, {1, 2}})->ArgNames({"n", "
 BENCHMARK(BM_ImpactStep)->ArgsProduct({{10, 16, 20}, {1, 2}, {1, 2}})
     ->ArgNames({"n", "mode", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// resolution 0: quick (31k tets), 1: default (186k), 2: fine (479k)
+// resolution 0: quick (22k tets), 1: default (186k), 2: fine (479k)
 BENCHMARK(BM_FourPlates)->ArgsProduct({{0, 1, 2}, {1, 2}})->ArgNames({"resolution", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
