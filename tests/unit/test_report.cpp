@@ -116,6 +116,30 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
     CHECK(fs::exists(tmp.path / "rep" / png));
     CHECK(md.find(png) != std::string::npos);
   }
+  // No symmetry plane: no word of the half models' defect.
+  CHECK(md.find("Known defect") == std::string::npos);
+  CHECK(read(tmp.path / "fe" / "summary.toml").find("across_symmetry") == std::string::npos);
+  // A half model's summary counts its particles across the plane (none in free flight), and
+  // a run with some gets the warning in the report.
+  REQUIRE(run("run " + scene.string() + common + (tmp.path / "half").string() +
+              " --set simulation.symmetry='\"half\"'") == 0);
+  const std::string half = read(tmp.path / "half" / "summary.toml");
+  CHECK(half.find("particles_across_symmetry = 0\n") != std::string::npos);
+  {
+    std::string edited;  // the run's own zeros replaced by a run with particles across
+    std::istringstream lines(half);
+    for (std::string l; std::getline(lines, l);)
+      if (l.find("across_symmetry") == std::string::npos) edited += l + "\n";
+    edited += "particles_across_symmetry = 7\nparticle_mass_across_symmetry_kg = 0.002\n"
+              "particle_mass_fraction_across_symmetry = 0.25\n";
+    std::ofstream(tmp.path / "half" / "summary.toml") << edited;
+  }
+  REQUIRE(run("report " + (tmp.path / "half").string() + " --out " +
+              (tmp.path / "rep_half").string()) == 0);
+  CHECK(read(tmp.path / "rep_half" / "report.md")
+            .find("7 particles (0.002 kg, 25.0 % of the particles' mass) are across the "
+                  "symmetry plane") != std::string::npos);
+
   // A folder that is not a run is bad input.
   CHECK(run("report " + tmp.path.string()) == 2);
 }
