@@ -94,4 +94,9 @@ Scene loadSceneText(const std::string& text, const std::string& path,
 /// Mesh every body and assemble the model. Writes mesh figures to `log` when given.
 Model buildModel(const Scene& scene, std::ostream* log = nullptr);
 
+/// A symmetry plane's hold on the nodes: the velocity component normal to the plane is fixed
+/// for the nodes on it (within round-off of the model's size). Particles get nothing there yet
+/// (docs/sph.md, "Symmetry planes").
+void holdNodesOnPlane(Model& model, const SymmetryPlane& plane);
+
 }  // namespace fesph

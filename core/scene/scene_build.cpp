@@ -35,6 +35,16 @@ void fixPlateRim(Model& model, int body, const TetMesh& mesh, const PlateSpec& p
 
 }  // namespace
 
+void holdNodesOnPlane(Model& model, const SymmetryPlane& s) {
+  // Tolerance relative to the model's size: nodes meshed on the plane sit on it to round-off.
+  double extent = 0;
+  for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
+  const double tol = 1e-9 * std::max(extent, 1e-3);
+  for (std::size_t a = 0; a < model.nodes.size(); ++a)
+    if (std::abs(model.nodes.x[a][s.axis] - s.position) < tol)
+      model.nodes.fix[a] |= static_cast<std::uint8_t>(1u << s.axis);
+}
+
 Model buildModel(const Scene& sc, std::ostream* log) {
   Model model;
   model.materials = sc.materials;
@@ -80,15 +90,7 @@ Model buildModel(const Scene& sc, std::ostream* log) {
       }
     }
   }
-  for (const SymmetryPlane& s : sc.symmetry) {
-    // Tolerance relative to the model's size: nodes meshed on the plane sit on it to round-off.
-    double extent = 0;
-    for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
-    const double tol = 1e-9 * std::max(extent, 1e-3);
-    for (std::size_t a = 0; a < model.nodes.size(); ++a)
-      if (std::abs(model.nodes.x[a][s.axis] - s.position) < tol)
-        model.nodes.fix[a] |= static_cast<std::uint8_t>(1u << s.axis);
-  }
+  for (const SymmetryPlane& s : sc.symmetry) holdNodesOnPlane(model, s);
   finaliseModel(model);
   return model;
 }
