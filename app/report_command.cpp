@@ -248,16 +248,18 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
              << summaryString(r, "status", "") << "\n";
   }
 
-  // Half models: particles get no mirror image at the symmetry plane yet (docs/sph.md).
+  // Half models: no particle may cross a symmetry plane (docs/sph.md, "Symmetry planes"); runs
+  // before the mirror images (the ninth session) let them.
   for (const ReportRun& r : runs) {
     const double across = summaryNumber(r, "particles_across_symmetry");
     if (!(across > 0)) continue;
     char line[512];
     std::snprintf(line, sizeof line,
-                  "\n**Known defect, %s:** %.0f particles (%.4g kg, %.1f %% of the particles' "
-                  "mass) are across the symmetry plane at the end of the run. Particles get no "
-                  "mirror image at a symmetry plane yet (docs/sph.md), so FE-SPH results of half "
-                  "models are approximate.\n",
+                  "\n**Check failed, %s:** %.0f particles (%.4g kg, %.1f %% of the particles' "
+                  "mass) are across the symmetry plane at the end of the run. A half model's "
+                  "particles see their mirror images and stay on their side (docs/sph.md, "
+                  "\"Symmetry planes\"); a run of a fesph before that, or a defect: its FE-SPH "
+                  "results of the half model are not to be trusted.\n",
                   r.label.c_str(), across, summaryNumber(r, "particle_mass_across_symmetry_kg"),
                   100 * summaryNumber(r, "particle_mass_fraction_across_symmetry"));
     md << line;

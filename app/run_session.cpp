@@ -70,6 +70,7 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   // later end time, a different dt floor). Materials and the state are the checkpoint's.
   model_.controls = scene_.controls;
   model_.sph.controls = scene_.sph;
+  if (model_.symmetry.empty()) model_.symmetry = scene_.symmetry;  // format 4 did not keep them
   const fs::path parent = fs::path(checkpoint).parent_path();
   scene_.output.folder = !out_folder.empty() ? out_folder
                          : parent.empty()    ? std::string(".")
@@ -238,7 +239,7 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
       << "converted = " << m.conversion.converted << "\neroded = " << m.conversion.eroded << "\n"
       << "eroded_mass_kg = " << m.conversion.eroded_mass << "\n"
       << "energy_balance = " << m.energy.balanceError() << "\n";
-  if (!scene_.symmetry.empty()) {  // the known defect of half models, for the report to show
+  if (!scene_.symmetry.empty()) {  // a check: none may cross (docs/sph.md, "Symmetry planes")
     long across = 0;
     double mass = 0, fraction = 0;
     for (const SymmetryLeak& leak : particlesAcrossSymmetry(m, scene_.symmetry)) {
@@ -307,8 +308,8 @@ void RunSession::printSummary() const {
   for (const SymmetryLeak& leak : particlesAcrossSymmetry(model, scene_.symmetry))
     if (leak.particles > 0)
       std::printf("  symmetry plane   %ld particles (%.4g kg, %.1f %% of the particles' mass) are "
-                  "across %c = %g m: particles get no mirror image there (known defect, "
-                  "docs/sph.md)\n",
+                  "across %c = %g m, which the mirror images should prevent: the half model's "
+                  "results are not to be trusted (docs/sph.md, \"Symmetry planes\")\n",
                   leak.particles, leak.mass, 100 * leak.mass_fraction,
                   static_cast<char>('x' + leak.plane->axis), leak.plane->position);
   std::printf("  output           %s\n", folder().c_str());

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Particles on the wrong side of a half model's symmetry plane. The plane holds the nodes on
-// it, but particles get no constraint and no mirror neighbours there (docs/sph.md, "Symmetry
-// planes"), so some cross it; a run reports how many, so that nobody reads past the defect.
+// Particles on the wrong side of a half model's symmetry plane. The particles see their mirror
+// images there and are kept on their side (docs/sph.md, "Symmetry planes"), so there should be
+// none; a run reports the count as a check (runs before the mirror images had many).
 #pragma once
 
 #include "core/scene/scene.hpp"

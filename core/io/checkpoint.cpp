@@ -28,7 +28,7 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 2: the SPH Verlet skin and last step's pair list and gradients.
 // 3: the pairs' stabilisation forces (pair_stab), looked up by the next step.
 // 4: what of the projectile got through each plate (PlateCrossing::through_*).
-constexpr std::int64_t kFormatVersion = 4;
+constexpr std::int64_t kFormatVersion = 5;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -83,7 +83,7 @@ FESPH_CHECKPOINT_FIELDS(Particles, 14 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
-                                          13 * kVec + 2 * kVec /* scratch */);
+                                          13 * kVec + 3 * kVec /* scratch */);
 FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
@@ -95,7 +95,7 @@ FESPH_CHECKPOINT_FIELDS(Material, 3 * sizeof(std::string) + 27 * sizeof(double))
 FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(double) +
                                   4 * sizeof(std::size_t));
 FESPH_CHECKPOINT_FIELDS(Model, sizeof(Nodes) + sizeof(Elements) + sizeof(Particles) +
-                                   3 * kVec + sizeof(Surfaces) + sizeof(SphWorkspace) +
+                                   4 * kVec + sizeof(Surfaces) + sizeof(SphWorkspace) +
                                    sizeof(SolverControls) + sizeof(EnergyBudget) +
                                    sizeof(ConversionStats) + 7 * kVec + 2 * sizeof(double) +
                                    sizeof(long) + sizeof(std::string) + sizeof(PhaseTimes));
@@ -362,6 +362,18 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   }
   ar.leave();
 
+  if (ar.version >= 5) {  // format 4 has none: the restart takes the scene's
+    ar.enter("symmetry");
+    m.symmetry.resize(ar.count("count", m.symmetry.size()));
+    for (std::size_t k = 0; k < m.symmetry.size(); ++k) {
+      ar.enter(std::to_string(k));
+      ar.value("axis", m.symmetry[k].axis);
+      ar.value("position", m.symmetry[k].position);
+      ar.leave();
+    }
+    ar.leave();
+  }
+
   ar.enter("surfaces");
   Surfaces& s = m.surfaces;
   ar.array("table", s.table);
@@ -384,7 +396,7 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("pair_grad_last", ws.pair_grad_last);
   // pair_stab_last and pair_last_slot are scratch: the next step swaps pair_stab into the
   // first and writes the second before reading it. Format 2 lacks pair_stab: readCheckpoint
-  // recomputes it.
+  // recomputes it. The mirror images (mirrors) are scratch: each step builds them afresh.
   if (ar.version >= 3) ar.array("pair_stab", ws.pair_stab);
   ar.enter("current");
   transfer(ar, ws.current);

@@ -130,6 +130,7 @@ void readSimulation(const toml::table& t, const std::string& file, Scene& sc) {
   c.dt_growth = positive(t, "dt_growth", file, 1.1);
   if (c.dt_growth < 1.0) fail(file, where(t, "dt_growth"), "'dt_growth' must be >= 1");
   sc.half = choice(t, "symmetry", file, {"none", "half"}, std::string("none")) == "half";
+  if (sc.half) sc.symmetry.push_back({1, 0.0});
 }
 
 void readContact(const toml::table* t, const std::string& file, Scene& sc) {
@@ -388,6 +389,12 @@ void readBoundary(const toml::table& t, const std::string& file, Scene& sc,
     const std::string axis = choice(t, "axis", file, {"x", "y", "z"});
     s.axis = axis[0] - 'x';
     s.position = number(t, "position", file, 0.0);
+    // Mirror images of mirror images: two planes on one axis would make infinitely many.
+    for (const SymmetryPlane& other : sc.symmetry)
+      if (other.axis == s.axis)
+        fail(file, where(t, "axis"),
+             "a second symmetry plane normal to " + axis + " (one per axis" +
+                 (sc.half ? "; [simulation] symmetry = \"half\" is the plane y = 0)" : ")"));
     sc.symmetry.push_back(s);
   } else {
     allowKeys(t, file, {"type", "point", "normal", "friction"}, "rigid wall");
@@ -484,7 +491,6 @@ Scene loadSceneText(const std::string& text, const std::string& path,
 
   for (const toml::table* bt : tables(root, "boundary", file)) readBoundary(*bt, file, sc, names);
   readReference(table(root, "reference", file), file, sc);
-  if (sc.half) sc.symmetry.push_back({1, 0.0});
   return sc;
 }
 

@@ -36,11 +36,6 @@ struct FixedBoundary {
   Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  ///< global coordinates, for "box"
 };
 
-struct SymmetryPlane {
-  int axis = 1;           ///< 0, 1, 2 = x, y, z
-  double position = 0.0;  ///< m
-};
-
 struct OutputSpec {
   std::string folder;                ///< run folder
   double interval = 0;               ///< s between field outputs
@@ -94,9 +89,9 @@ Scene loadSceneText(const std::string& text, const std::string& path,
 /// Mesh every body and assemble the model. Writes mesh figures to `log` when given.
 Model buildModel(const Scene& scene, std::ostream* log = nullptr);
 
-/// A symmetry plane's hold on the nodes: the velocity component normal to the plane is fixed
-/// for the nodes on it (within round-off of the model's size). Particles get nothing there yet
-/// (docs/sph.md, "Symmetry planes").
-void holdNodesOnPlane(Model& model, const SymmetryPlane& plane);
+/// Make `plane` a symmetry plane of the model: the velocity component normal to it is held for
+/// the nodes on it (within round-off of the model's size), and the particles see their mirror
+/// images across it and are kept on the model's side (docs/sph.md, "Symmetry planes").
+void addSymmetryPlane(Model& model, const SymmetryPlane& plane);
 
 }  // namespace fesph

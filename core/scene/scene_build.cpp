@@ -35,7 +35,8 @@ void fixPlateRim(Model& model, int body, const TetMesh& mesh, const PlateSpec& p
 
 }  // namespace
 
-void holdNodesOnPlane(Model& model, const SymmetryPlane& s) {
+void addSymmetryPlane(Model& model, const SymmetryPlane& s) {
+  model.symmetry.push_back(s);
   // Tolerance relative to the model's size: nodes meshed on the plane sit on it to round-off.
   double extent = 0;
   for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
@@ -90,7 +91,7 @@ Model buildModel(const Scene& sc, std::ostream* log) {
       }
     }
   }
-  for (const SymmetryPlane& s : sc.symmetry) holdNodesOnPlane(model, s);
+  for (const SymmetryPlane& s : sc.symmetry) addSymmetryPlane(model, s);
   finaliseModel(model);
   return model;
 }

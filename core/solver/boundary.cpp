@@ -51,4 +51,16 @@ void enforceRigidWalls(Model& model, double dt) {
   }
 }
 
+void enforceSymmetryPlanes(Model& model, double dt) {
+  Particles& pa = model.particles;
+  for (const SymmetryPlane& s : model.symmetry) {
+    const int a = s.axis;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      const double d = pa.x[i][a] - s.position, d_next = d + dt * pa.v[i][a];
+      if ((d > 0 && d_next < 0) || (d < 0 && d_next > 0)) pa.v[i][a] = -d / dt;
+    }
+  }
+}
+
 }  // namespace fesph

@@ -271,6 +271,7 @@ void step(Model& model, double t_stop) {
   enforceParticleFaceContact(model, dt, model.controls.contact.passes);
   enforceTies(model, model.controls.contact.passes);  // converted particles stay coupled
   enforceParticleContact(model, dt);      // particles of different bodies: compression only
+  enforceSymmetryPlanes(model, dt);       // particles stay on their side of a symmetry plane
   clock.lap(Phase::Coupling);
   const double dissipated = -correctionWork(model, dt_avg);
 

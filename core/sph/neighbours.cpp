@@ -340,6 +340,46 @@ void NeighbourSearch::crossBodyPairsVerlet(const std::vector<Vec3>& x, const std
   rowsToPairs(rows_, out);
 }
 
+void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                 const std::vector<int>& body, const Reflection& image,
+                                 bool same_body, NeighbourList& out) {
+  const std::size_t n = x.size();
+  double r_max = 0;
+  for (double ri : r) r_max = std::max(r_max, ri);
+  // |x_i - M x_j| >= |d_i + d_j| on each flipped axis (d: signed distance to its plane), so a
+  // pair needs both points within r_i + r_j <= 2 r_max of every plane of the image.
+  const auto near_planes = [&](std::size_t i) {
+    for (int a = 0; a < 3; ++a)
+      if (image.flip[a] && !(std::abs(2.0 * x[i][a] - image.twice_position[a]) < 4.0 * r_max))
+        return false;
+    return true;
+  };
+  mirror_ids_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (near_planes(i)) mirror_ids_.push_back(static_cast<int>(i));
+  if (mirror_ids_.empty() || !(r_max > 0)) {
+    out.offset.assign(n + 1, 0);
+    out.index.clear();
+    return;
+  }
+  mirror_grid_.build(x, mirror_ids_, 2.0 * r_max);
+  buildRows(
+      n,
+      [&](std::size_t i, std::vector<int>& buf) {
+        if (!near_planes(i)) return;
+        const std::size_t first = buf.size();
+        // the partners of i's image are the points whose image is a partner of i
+        mirror_grid_.forEachCandidate(image.point(x[i]), [&](int j) {
+          const bool take = same_body ? body[j] == body[i]
+                                      : body[j] != body[i] && j > static_cast<int>(i);
+          const double reach = r[i] + r[j];
+          if (take && (x[i] - image.point(x[j])).squaredNorm() < reach * reach) buf.push_back(j);
+        });
+        std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
+      },
+      thread_index_, count_, out);
+}
+
 void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,
                              const std::vector<int>& body, NeighbourList& out) {
   const std::size_t n = x.size();

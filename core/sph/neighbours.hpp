@@ -3,6 +3,7 @@
 // body (from scratch, or through a Verlet list rebuilt only when particles moved enough), contact pairs across bodies, and a brute-force reference.
 #pragma once
 
+#include "core/common/reflection.hpp"
 #include "core/common/types.hpp"
 
 #include <cstddef>
@@ -85,6 +86,15 @@ class NeighbourSearch {
   /// Builds of the contact Verlet list so far.
   long contactVerletBuilds() const { return contact_.builds; }
 
+  /// Pairs of the points with the mirror images of the points: row i holds the j (ascending)
+  /// with |x_i - M x_j| < r_i + r_j, M = `image`; of the same body, i itself included
+  /// (same_body), or of another body with j > i (!same_body: a pair and its mirror are one
+  /// interaction). Only the points
+  /// within 2 max(r) of the image's planes are searched; built afresh at every call.
+  void mirrorRows(const std::vector<Vec3>& x, const std::vector<double>& r,
+                  const std::vector<int>& body, const Reflection& image, bool same_body,
+                  NeighbourList& out);
+
  private:
   /// Candidate pairs within the ranges r widened by (1 + skin/2), and the state they were
   /// built from.
@@ -108,6 +118,8 @@ class NeighbourSearch {
                      const std::vector<int>& body, NeighbourList& rows);
 
   std::vector<CellGrid> grids_;
+  CellGrid mirror_grid_;                            ///< points near the symmetry planes
+  std::vector<int> mirror_ids_;
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
   std::vector<std::vector<int>> thread_index_;      ///< per-thread neighbour ids
   std::vector<std::size_t> count_;

@@ -55,6 +55,13 @@ double powInt(double x, int n) {
   return y;
 }
 
+/// One MirrorImage per reflection of the model's symmetry planes (none without planes).
+void prepareMirrors(const Model& model, SphWorkspace& ws) {
+  const std::vector<Reflection> images = mirrorImages(model.symmetry);
+  ws.mirrors.resize(images.size());
+  for (std::size_t m = 0; m < images.size(); ++m) ws.mirrors[m].map = images[m];
+}
+
 void resizeWorkspace(SphWorkspace& ws, std::size_t n) {
   ws.current.resize(n);
   ws.corrected.resize(n);
@@ -86,8 +93,23 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
     A.noalias() -= (pa.V[j] * r_ij) * g.transpose();
     G.noalias() += (pa.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
   }
+  // The mirror images of the particles near a symmetry plane are neighbours as the other
+  // half's particles are in the full model: the same sums with x_j, v_j reflected.
+  std::size_t count = nb.offset[i + 1] - nb.offset[i];
+  for (MirrorImage& mi : ws.mirrors) {
+    const NeighbourList& ml = mi.neighbours;
+    for (std::size_t k = ml.offset[i]; k < ml.offset[i + 1]; ++k) {
+      const int j = ml.index[k];
+      const Vec3 r_ij = pa.x[i] - mi.map.point(pa.x[j]);
+      const Vec3 g = kernelGradient(r_ij, 0.5 * (pa.h[i] + pa.h[j]));
+      mi.grad[k] = g;
+      A.noalias() -= (pa.V[j] * r_ij) * g.transpose();
+      G.noalias() += (pa.V[j] * (mi.map.vector(pa.v[j]) - pa.v[i])) * g.transpose();
+    }
+    count += ml.offset[i + 1] - ml.offset[i];
+  }
   bool corrected = false;
-  const Mat3 B = gradientCorrection(A, nb.offset[i + 1] - nb.offset[i], ws.controls, corrected);
+  const Mat3 B = gradientCorrection(A, count, ws.controls, corrected);
   cur.B[i] = B;
   ws.corrected[i] = corrected ? 1 : 0;
   ws.velocity_grad[i] = G * B;
@@ -121,6 +143,17 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
                        : kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
     ws.pair_grad_prev[k] = g;
     Gp.noalias() += (prev.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
+  }
+  for (MirrorImage& mi : ws.mirrors) {  // few pairs: computed again, not looked up
+    const NeighbourList& ml = mi.neighbours;
+    for (std::size_t k = ml.offset[i]; k < ml.offset[i + 1]; ++k) {
+      const std::size_t j = static_cast<std::size_t>(ml.index[k]);
+      if (j >= np) continue;
+      const Vec3 g = kernelGradient(prev.x[i] - mi.map.point(prev.x[j]),
+                                    0.5 * (prev.h[i] + prev.h[j]));
+      mi.grad_prev[k] = g;
+      Gp.noalias() += (prev.V[j] * (mi.map.vector(pa.v[j]) - pa.v[i])) * g.transpose();
+    }
   }
   ws.velocity_grad_prev[i] = Gp * prev.B[i];
 }
@@ -197,19 +230,21 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
 /// Monaghan's artificial stress V_i V_j f^n (R_i + R_j) g, f = W(r)/W(d_ij) (Gray, Monaghan &
 /// Swift 2001), and the Monaghan & Gingold (1983) viscosity -m_i m_j Pi_ij g for approaching
 /// pairs. Anti-symmetric bit for bit. `mu` receives -mu_ij (>= 0) for the time step.
+/// x_j, v_j, R_j: j's own (s.x[j] ...) or its mirror image's.
 Vec3 stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i,
-                        std::size_t j, const Vec3& g, const SphControls& ctl, double& mu) {
-  const Vec3 r_ij = s.x[i] - s.x[j];
+                        std::size_t j, const Vec3& x_j, const Vec3& v_j, const Mat3& R_j,
+                        const Vec3& g, const SphControls& ctl, double& mu) {
+  const Vec3 r_ij = s.x[i] - x_j;
   const double h_ij = 0.5 * (s.h[i] + s.h[j]);
   Vec3 f = Vec3::Zero();
   if (s.tensile[i] || s.tensile[j]) {
     const double dp = 0.5 * (s.d[i] + s.d[j]);
     const double fn =
         powInt(kernelShape(r_ij.norm() / h_ij) / kernelShape(dp / h_ij), ctl.as_exponent);
-    f = (s.V[i] * s.V[j] * fn) * ((s.R[i] + s.R[j]) * g);
+    f = (s.V[i] * s.V[j] * fn) * ((s.R[i] + R_j) * g);
   }
   mu = 0;
-  const double vr = (s.v[i] - s.v[j]).dot(r_ij);
+  const double vr = (s.v[i] - v_j).dot(r_ij);
   if (vr < 0) {
     const double mu_ij = h_ij * vr / (r_ij.squaredNorm() + 0.01 * h_ij * h_ij);
     const double c_ij = 0.5 * (s.c[i] + s.c[j]);
@@ -240,7 +275,7 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
     const Vec3& g = ws.pair_grad[k];
-    const Vec3 f_stab = stabilisationForce(cur, pa, i, j, g, ctl, mu);
+    const Vec3 f_stab = stabilisationForce(cur, pa, i, j, cur.x[j], cur.v[j], cur.R[j], g, ctl, mu);
     ws.pair_stab[k] = f_stab;
     mu_max = std::max(mu_max, mu);
     f += (cur.V[i] * cur.V[j]) * ((Si + ws.stress_b[j]) * g) + f_stab;
@@ -250,11 +285,34 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
       const std::size_t kl = ws.pair_last_slot[k];
       f_stab_sum += kl != SphWorkspace::kNoLastPair
                         ? ws.pair_stab_last[kl]
-                        : stabilisationForce(prev, pa, i, j, ws.pair_grad_prev[k], ctl, mu);
+                        : stabilisationForce(prev, pa, i, j, prev.x[j], prev.v[j], prev.R[j],
+                                             ws.pair_grad_prev[k], ctl, mu);
     } else {
       f_stab_sum += f_stab;
     }
     heat_power -= 0.25 * f_stab_sum.dot(pa.v[i] - pa.v[j]);
+  }
+  // Mirror images: sigma_j B_j and R_j map as tensors (P T P). Each pair of i with an image
+  // stands for two pairs of the full model, mirrors of each other; i's row holds one of them,
+  // and its partner's row the other, so the heat is shared as for real pairs.
+  for (const MirrorImage& mi : ws.mirrors) {
+    const NeighbourList& ml = mi.neighbours;
+    const Reflection& M = mi.map;
+    for (std::size_t k = ml.offset[i]; k < ml.offset[i + 1]; ++k) {
+      const std::size_t j = static_cast<std::size_t>(ml.index[k]);
+      const Vec3& g = mi.grad[k];
+      const Vec3 f_stab = stabilisationForce(cur, pa, i, j, M.point(cur.x[j]),
+                                             M.vector(cur.v[j]), M.tensor(cur.R[j]), g, ctl, mu);
+      mu_max = std::max(mu_max, mu);
+      f += (cur.V[i] * cur.V[j]) * ((Si + M.tensor(ws.stress_b[j])) * g) + f_stab;
+      const Vec3 f_stab_sum =
+          f_stab + (i < np && j < np
+                        ? stabilisationForce(prev, pa, i, j, M.point(prev.x[j]),
+                                             M.vector(prev.v[j]), M.tensor(prev.R[j]),
+                                             mi.grad_prev[k], ctl, mu)
+                        : f_stab);
+      heat_power -= 0.25 * f_stab_sum.dot(pa.v[i] - M.vector(pa.v[j]));
+    }
   }
   pa.f[i] = f;
   const double ci = cur.c[i];
@@ -273,10 +331,13 @@ void restorePairStabilisation(Model& model) {
 #pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < rows; ++i) {
     double mu = 0;
-    for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k)
-      ws.pair_stab[k] = stabilisationForce(ws.current, model.particles, static_cast<std::size_t>(i),
-                                           static_cast<std::size_t>(nb.index[k]),
-                                           ws.pair_grad[k], ws.controls, mu);
+    for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+      const std::size_t j = static_cast<std::size_t>(nb.index[k]);
+      const SphSnapshot& s = ws.current;
+      ws.pair_stab[k] = stabilisationForce(s, model.particles, static_cast<std::size_t>(i), j,
+                                           s.x[j], s.v[j], s.R[j], ws.pair_grad[k],
+                                           ws.controls, mu);
+    }
   }
 }
 
@@ -307,6 +368,12 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   ws.pair_grad_prev.resize(ws.neighbours.pairs());
   ws.pair_stab.resize(ws.neighbours.pairs());
   ws.pair_last_slot.resize(ws.neighbours.pairs());
+  prepareMirrors(model, ws);
+  for (MirrorImage& mi : ws.mirrors) {
+    ws.search.mirrorRows(pa.x, pa.h, pa.body, mi.map, true, mi.neighbours);
+    mi.grad.resize(mi.neighbours.pairs());
+    mi.grad_prev.resize(mi.neighbours.pairs());
+  }
   const long ni = static_cast<long>(n);
 
   // Rows differ in length (debris has few neighbours, the bulk ~75) and each particle writes
@@ -358,27 +425,40 @@ void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
   constexpr double kContactVerletSkin = 2.0;
   ws.search.crossBodyPairsVerlet(pa.x, ws.contact_radius, pa.body, kContactVerletSkin,
                                  ws.contact_pairs);
+  prepareMirrors(model, ws);
+  for (MirrorImage& mi : ws.mirrors)
+    ws.search.mirrorRows(pa.x, ws.contact_radius, pa.body, mi.map, false, mi.contact);
 
   // Johnson-Stryk style kinematic correction, Gauss-Seidel over the pairs in a fixed order:
   // a pair that would end the step closer than (d_i + d_j)/2 gets the normal relative velocity
   // that lands it at that distance (or stops its approach if already closer), shared so that
   // momentum is conserved. Velocities only ever move apart: no pulling, no sticking. The work
   // of these corrections is booked by the solver (correctionWork), as for walls and ties.
+  // i against j, or against the mirror image of j (`image`): then j takes the mirror of what
+  // its image takes, as it does in the mirror pair (the image of i against j), which is the
+  // same interaction and is not listed again.
+  const auto correct = [&](int i, int j, const Reflection* image) {
+    const Vec3 x_j = image ? image->point(pa.x[j]) : pa.x[j];
+    const Vec3 v_j = image ? image->vector(pa.v[j]) : pa.v[j];
+    const Vec3 r_ij = pa.x[i] - x_j;
+    const double r = r_ij.norm();
+    if (!(r > 0)) return;
+    const Vec3 nrm = r_ij / r;
+    const double gap = r - 0.5 * (ws.contact_spacing[i] + ws.contact_spacing[j]);
+    const double vn = (pa.v[i] - v_j).dot(nrm);
+    const double vn_min = gap > 0 ? -gap / dt : 0.0;
+    if (vn >= vn_min) return;
+    const double mi = pa.m[i], mj = pa.m[j];
+    const double impulse = (vn_min - vn) * mi * mj / (mi + mj);
+    pa.v[i] += (impulse / mi) * nrm;
+    pa.v[j] -= (impulse / mj) * (image ? image->vector(nrm) : nrm);
+  };
   for (int pass = 0; pass < ws.controls.contact_passes; ++pass) {
-    for (const auto& [i, j] : ws.contact_pairs) {
-      const Vec3 r_ij = pa.x[i] - pa.x[j];
-      const double r = r_ij.norm();
-      if (!(r > 0)) continue;
-      const Vec3 nrm = r_ij / r;
-      const double gap = r - 0.5 * (ws.contact_spacing[i] + ws.contact_spacing[j]);
-      const double vn = (pa.v[i] - pa.v[j]).dot(nrm);
-      const double vn_min = gap > 0 ? -gap / dt : 0.0;
-      if (vn >= vn_min) continue;
-      const double mi = pa.m[i], mj = pa.m[j];
-      const double impulse = (vn_min - vn) * mi * mj / (mi + mj);
-      pa.v[i] += (impulse / mi) * nrm;
-      pa.v[j] -= (impulse / mj) * nrm;
-    }
+    for (const auto& [i, j] : ws.contact_pairs) correct(i, j, nullptr);
+    for (const MirrorImage& mi : ws.mirrors)
+      for (std::size_t i = 0; i + 1 < mi.contact.offset.size(); ++i)
+        for (std::size_t k = mi.contact.offset[i]; k < mi.contact.offset[i + 1]; ++k)
+          correct(static_cast<int>(i), mi.contact.index[k], &mi.map);
   }
 }
 

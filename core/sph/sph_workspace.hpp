@@ -52,6 +52,17 @@ struct SphSnapshot {
   std::size_t size() const { return x.size(); }
 };
 
+/// A mirror image of the particles across the symmetry planes (one per plane, and the
+/// combinations of planes): the pairs each particle forms with the image's particles, for the
+/// SPH sums and for the contact across bodies. Rebuilt at every step.
+struct MirrorImage {
+  Reflection map;
+  NeighbourList neighbours;             ///< row i: j whose image is an SPH neighbour of i
+  std::vector<Vec3> grad;               ///< grad_i W(x_i - M x_j, h_ij) per entry, 1/m^4
+  std::vector<Vec3> grad_prev;          ///< the same in the last step's configuration
+  NeighbourList contact;                ///< row i: j > i of another body whose image is near
+};
+
 /// Storage reused from step to step, owned by the Model; the SPH functions resize it as the particle count changes. Particles
 /// are assumed to keep their index between steps (new ones appended).
 struct SphWorkspace {
@@ -80,6 +91,7 @@ struct SphWorkspace {
   std::vector<double> contact_radius;   ///< m
   std::vector<double> contact_spacing;  ///< m
   std::vector<std::pair<int, int>> contact_pairs;
+  std::vector<MirrorImage> mirrors;     ///< one per mirror image of the symmetry planes
 };
 
 /// computeParticleForces (sph_forces.hpp) with explicit storage and parameters.

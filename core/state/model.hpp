@@ -3,6 +3,7 @@
 // conditions and the energy budget. Structure of arrays, double precision, SI units.
 #pragma once
 
+#include "core/common/reflection.hpp"
 #include "core/common/types.hpp"
 #include "core/material/material.hpp"
 #include "core/solver/phase_timers.hpp"
@@ -172,6 +173,7 @@ struct Model {
   std::vector<Body> bodies;
   std::vector<Material> materials;
   std::vector<RigidWall> walls;
+  std::vector<SymmetryPlane> symmetry;  ///< at most one per axis
   Surfaces surfaces;  ///< exterior faces of every body, for contact
   SphWorkspace sph;   ///< SPH parameters and the storage reused from step to step
   SolverControls controls;

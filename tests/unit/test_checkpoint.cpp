@@ -50,6 +50,11 @@ bool sameTies(const Particles& a, const Particles& b) {
 // Every state array step() reads and writes, bit for bit.
 void requireSameState(const Model& a, const Model& b) {
   REQUIRE(a.step == b.step);
+  REQUIRE(a.symmetry.size() == b.symmetry.size());
+  for (std::size_t k = 0; k < a.symmetry.size(); ++k) {
+    REQUIRE(a.symmetry[k].axis == b.symmetry[k].axis);
+    REQUIRE(sameBits(a.symmetry[k].position, b.symmetry[k].position));
+  }
   REQUIRE(sameBits(a.time, b.time));
   REQUIRE(sameBits(a.dt, b.dt));
   REQUIRE(sameBits(a.nodes.x, b.nodes.x));
@@ -198,6 +203,7 @@ TEST_CASE("a run continued from a checkpoint is bit-identical to an unbroken run
   RunProgress read;
   Model continued = readCheckpoint(path, read);
   REQUIRE(read.scene_text == run.scene.source);
+  REQUIRE(continued.symmetry.size() == 1);  // a half model: its plane is in the checkpoint
   requireSameState(first, continued);
   stepTo(continued, 2 * run.N);
   requireSameState(run.unbroken, continued);
@@ -223,6 +229,8 @@ TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit
   }
   RunProgress read;
   Model continued = readCheckpoint(path, read);
+  REQUIRE(continued.symmetry.empty());  // not in format 2 (nor 3, 4): a restart takes the scene's
+  continued.symmetry = first.symmetry;
   REQUIRE(sameBits(continued.sph.pair_stab, first.sph.pair_stab));
   requireSameState(first, continued);
   stepTo(continued, 2 * run.N);

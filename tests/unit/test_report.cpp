@@ -116,11 +116,11 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
     CHECK(fs::exists(tmp.path / "rep" / png));
     CHECK(md.find(png) != std::string::npos);
   }
-  // No symmetry plane: no word of the half models' defect.
-  CHECK(md.find("Known defect") == std::string::npos);
+  // No symmetry plane: no word of particles across one.
+  CHECK(md.find("Check failed") == std::string::npos);
   CHECK(read(tmp.path / "fe" / "summary.toml").find("across_symmetry") == std::string::npos);
-  // A half model's summary counts its particles across the plane (none in free flight), and
-  // a run with some gets the warning in the report.
+  // A half model's summary counts its particles across the plane (none), and a run with some
+  // (one of a fesph before the mirror images) gets the warning in the report.
   REQUIRE(run("run " + scene.string() + common + (tmp.path / "half").string() +
               " --set simulation.symmetry='\"half\"'") == 0);
   const std::string half = read(tmp.path / "half" / "summary.toml");

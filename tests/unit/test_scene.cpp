@@ -123,6 +123,30 @@ TEST_CASE("impossible values are rejected with their line", "[unit][scene]") {
   }
 }
 
+TEST_CASE("two symmetry planes on one axis are an error at the second", "[unit][scene]") {
+  // Mirror images of mirror images across two parallel planes never end.
+  const std::string plane = "\n[[boundary]]\ntype = \"symmetry\"\naxis = \"y\"\nposition = 0.0\n";
+  for (const auto& [text, line] :
+       {std::pair{kGoodScene + plane + plane, 21},
+        std::pair{replace(kGoodScene, "end_time = 1e-6", "end_time = 1e-6\nsymmetry = \"half\"") +
+                      plane,
+                  17}}) {
+    const std::string path = writeScene("two_planes.toml", text);
+    try {
+      loadScene(path, {}, library());
+      FAIL("no error for two planes normal to y");
+    } catch (const InputError& e) {
+      INFO(e.what());
+      REQUIRE(e.line() == line);
+      REQUIRE(std::string(e.what()).find("one per axis") != std::string::npos);
+    }
+  }
+  const Scene x_and_y = loadScene(
+      writeScene("x_and_y.toml", kGoodScene + plane + replace(plane, "\"y\"", "\"x\"")), {},
+      library());
+  REQUIRE(x_and_y.symmetry.size() == 2);
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
