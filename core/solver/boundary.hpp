@@ -15,10 +15,10 @@ void applyFixedVelocities(Model& model);
 /// tangential change capped by Coulomb friction). Its work is booked by the step.
 void enforceRigidWalls(Model& model, double dt);
 
-/// Keep every particle on its side of each symmetry plane: one that would cross it in this
-/// step gets the normal velocity that lands it on the plane. In the full model it would meet
-/// its own mirror image there, head on. The mirror images' forces (sph_forces) keep particles
-/// off the plane; this is the last resort. Its work is booked by the step.
+/// Keep every particle on its side of each symmetry plane, a tenth of its spacing cbrt(V)
+/// off it (or, born closer, no closer): in the full model it would meet its own mirror image
+/// there head on. The images' forces (sph_forces) mostly do it; this is the last resort for
+/// debris with few neighbours. Its work is booked by the step.
 void enforceSymmetryPlanes(Model& model, double dt);
 
 }  // namespace fesph
