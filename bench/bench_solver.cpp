@@ -7,6 +7,8 @@
 //   BM_ElementKernel computeElementForces: tet4 + Johnson-Cook + ANP + EOS + bulk q + gather
 //   BM_SphForces     computeParticleForces at ~55 neighbours (Verlet list amortised),
 //                    particles in lattice or in random order
+//   BM_SphMirror     BM_SphForces (lattice) with a symmetry plane on one face of the cube: the
+//                    cost of the mirror images (compare with BM_SphForces/shuffled:0)
 //   BM_Neighbours    SPH neighbour build from scratch (cell grid)
 //   BM_ContactPass   node-face contact: broad phase + 3 correction passes
 //   BM_ImpactStep    full step of a projectile in a plate (~190k tets at the middle size),
@@ -149,6 +151,19 @@ void BM_SphForces(benchmark::State& state) {
   countMemory(state, m);
 }
 
+void BM_SphMirror(benchmark::State& state) {
+  setThreads(state, 1);
+  Model m = particleCube(static_cast<int>(state.range(0)));
+  m.symmetry.push_back({1, 0.0});  // the face y = 0
+  for (int i = 0; i < 5; ++i) step(m, 1.0);
+  for (auto _ : state) step(m, 1.0);
+  countItems(state, "particles", static_cast<double>(m.particles.size()));
+  state.counters["neighbours"] = meanNeighbours(m);
+  state.counters["mirror_pairs_per_particle"] =
+      static_cast<double>(m.sph.mirrors.at(0).neighbours.pairs()) /
+      static_cast<double>(m.particles.size());
+}
+
 void BM_Neighbours(benchmark::State& state) {
   setThreads(state, 1);
   Model m = particleCube(static_cast<int>(state.range(0)));
@@ -237,6 +252,8 @@ BENCHMARK(BM_ElementKernel)->ArgsProduct({{10, 20, 32}, {1, 2}})->ArgNames({"n",
 // n^3 particles: 8k, 27k, 64k
 BENCHMARK(BM_SphForces)->ArgsProduct({{20, 30, 40}, {0, 1}, {1, 2}})
     ->ArgNames({"n", "shuffled", "threads"})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SphMirror)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Neighbours)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
