@@ -388,6 +388,11 @@ void SeriesWriter::writeParticles(const Model& model, double time) {
   parent->SetNumberOfValues(n);
   for (vtkIdType i = 0; i < n; ++i) parent->SetValue(i, pa.parent[i]);
   pd->AddArray(parent);
+  vtkNew<vtkTypeInt64Array> id;  // the particles are renumbered during a run: follow this
+  id->SetName("particle_id");
+  id->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) id->SetValue(i, pa.id[i]);
+  pd->AddArray(id);
   addTimeValue(*poly, time);
 
   const std::string file = indexedName("particles", particles_.entries().size(), "vtp");

@@ -14,6 +14,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <system_error>
 #include <type_traits>
 
@@ -28,7 +29,9 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 2: the SPH Verlet skin and last step's pair list and gradients.
 // 3: the pairs' stabilisation forces (pair_stab), looked up by the next step.
 // 4: what of the projectile got through each plate (PlateCrossing::through_*).
-constexpr std::int64_t kFormatVersion = 5;
+// 5: the symmetry planes.
+// 6: the particles' renumbering: SphControls::order_interval and Particles::id.
+constexpr std::int64_t kFormatVersion = 6;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -79,7 +82,7 @@ constexpr std::size_t kVec = sizeof(std::vector<int>);
                                         "(transfer() in core/io/checkpoint.cpp)")
 FESPH_CHECKPOINT_FIELDS(Nodes, 7 * kVec);
 FESPH_CHECKPOINT_FIELDS(Elements, 14 * kVec);
-FESPH_CHECKPOINT_FIELDS(Particles, 14 * kVec);
+FESPH_CHECKPOINT_FIELDS(Particles, 15 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
@@ -90,7 +93,7 @@ FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(Convers
                                             8 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ContactControls, 3 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionControls, 5 * sizeof(double));
-FESPH_CHECKPOINT_FIELDS(SphControls, 10 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(SphControls, 11 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(Material, 3 * sizeof(std::string) + 27 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(double) +
                                   4 * sizeof(std::size_t));
@@ -248,6 +251,7 @@ template <class Ar> void transfer(Ar& ar, SolverControls& c, SphControls& s) {
   ar.value("sph_contact_passes", s.contact_passes);
   ar.value("sph_dt_factor", s.dt_factor);
   ar.value("sph_verlet_skin", s.verlet_skin);
+  if (ar.version >= 6) ar.value("sph_order_interval", s.order_interval);  // else the default
   ar.leave();
 }
 
@@ -311,6 +315,12 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("body", pa.body);
   ar.array("material", pa.material);
   ar.array("parent", pa.parent);
+  if (ar.version >= 6) {
+    ar.array("id", pa.id);
+  } else if (Ar::reading) {  // never renumbered before format 6: the index is the identity
+    pa.id.resize(pa.x.size());
+    std::iota(pa.id.begin(), pa.id.end(), 0);
+  }
   std::vector<std::array<int, 3>> tie_face(pa.tie.size());
   std::vector<Vec3> tie_bary(pa.tie.size());
   for (std::size_t i = 0; i < pa.tie.size(); ++i)
@@ -533,7 +543,7 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
   for (std::size_t n : {pa.v.size(), pa.f.size(), pa.m.size(), pa.V.size(), pa.rho.size(),
                         pa.h.size(), pa.d0.size(), pa.dt.size(), pa.state.size(),
                         pa.body.size(), pa.material.size(), pa.parent.size(), pa.tie.size(),
-                        m.v_particle_free.size()})
+                        pa.id.size(), m.v_particle_free.size()})
     if (n != np) fail("particle arrays of different lengths");
   if (nb == 0) fail("no bodies");
   for (std::size_t a = 0; a < nn; ++a)

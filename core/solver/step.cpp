@@ -10,6 +10,7 @@
 #include "core/conversion/ties.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/solver/boundary.hpp"
+#include "core/sph/particle_order.hpp"
 #include "core/sph/sph_forces.hpp"
 
 #include <cmath>
@@ -243,6 +244,7 @@ void integratePositions(Model& model, double dt) {
 
 void step(Model& model, double t_stop) {
   PhaseClock clock(model.timing);
+  if (orderParticlesIfDue(model)) clock.lap(Phase::Particles);  // neighbours close in memory
   const double dt_last = model.dt;
   switch (model.controls.conversion.mode) {  // on the state the last step left
     case ConversionMode::Erosion: erodeElements(model); break;

@@ -95,6 +95,13 @@ class NeighbourSearch {
                   const std::vector<int>& body, const Reflection& image, bool same_body,
                   NeighbourList& out);
 
+  /// Forget the Verlet candidates (the particles were renumbered): the next calls build
+  /// them afresh.
+  void forgetCandidates() {
+    sph_.x_built.clear();
+    contact_.x_built.clear();
+  }
+
  private:
   /// Candidate pairs within the ranges r widened by (1 + skin/2), and the state they were
   /// built from.

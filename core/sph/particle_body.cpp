@@ -31,22 +31,10 @@ int addParticleBody(Model& model, const std::string& name, const std::vector<Vec
       throw InputError("", 0, 0, "body '" + name + "': particle " + std::to_string(k) +
                                      " has non-positive volume " + std::to_string(V) + " m^3");
     const double d = std::cbrt(V);
-    pa.x.push_back(points[k]);
-    pa.v.push_back(velocity);
-    pa.f.push_back(Vec3::Zero());
-    pa.m.push_back(mat.rho0 * V);
-    pa.V.push_back(V);
-    pa.rho.push_back(mat.rho0);
-    pa.h.push_back(kappa * d);
-    pa.d0.push_back(d);
-    pa.dt.push_back(0.0);
     PointState st;
     st.T = mat.T_room;
-    pa.state.push_back(st);
-    pa.body.push_back(b);
-    pa.material.push_back(material);
-    pa.parent.push_back(-1);
-    pa.tie.push_back(Tie{});
+    appendParticle(pa, points[k], velocity, mat.rho0 * V, V, d, kappa * d, st, b, material, -1);
+    pa.rho.back() = mat.rho0;  // exactly, not m / V
   }
   model.bodies.push_back(body);
   return b;

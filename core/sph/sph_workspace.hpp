@@ -37,6 +37,9 @@ struct SphControls {
   /// (J 0.87 -> 1.57 -> 0.66) at Courant 0.5; 0.4 x 0.5 = 0.2 kept the energy budget of
   /// converting bars within 0.4 % (docs/sph.md).
   double dt_factor = 0.4;
+  /// Steps between renumberings of the particles in spatial order (particle_order.hpp); 0:
+  /// never. Each forces a rebuild of the neighbour lists, about one step's SPH cost.
+  long order_interval = 50;
 };
 
 /// The particle quantities one step's forces were computed from. Keeping the previous step's

@@ -73,6 +73,8 @@ struct Particles {
   std::vector<int> material;      ///< index into Model::materials
   std::vector<int> parent;        ///< element it came from, -1 if born a particle
   std::vector<Tie> tie;
+  /// Identity through renumbering (particle_order.hpp): the order of birth, 0, 1, ...
+  std::vector<int> id;
   std::size_t size() const { return x.size(); }
 };
 

@@ -130,6 +130,7 @@ std::size_t appendParticle(Particles& pa, const Vec3& x, const Vec3& v, double m
   pa.material.push_back(material);
   pa.parent.push_back(parent);
   pa.tie.push_back(Tie{});
+  pa.id.push_back(static_cast<int>(pa.id.size()));  // no particle is ever removed
   return pa.size() - 1;
 }
 
