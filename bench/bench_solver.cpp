@@ -6,9 +6,10 @@
 //   BM_Stream        memory bandwidth (triad a = b + s c over 3 x 256 MB), bytes/s
 //   BM_ElementKernel computeElementForces: tet4 + Johnson-Cook + ANP + EOS + bulk q + gather
 //   BM_SphForces     computeParticleForces at ~55 neighbours (Verlet list amortised),
-//                    particles in lattice or in random order
+//                    particles in lattice order (order 0), in random order (1), or in random
+//                    order renumbered in spatial order every 50 steps, as runs do (2)
 //   BM_SphMirror     BM_SphForces (lattice) with a symmetry plane on one face of the cube: the
-//                    cost of the mirror images (compare with BM_SphForces/shuffled:0)
+//                    cost of the mirror images (compare with BM_SphForces/order:0)
 //   BM_Neighbours    SPH neighbour build from scratch (cell grid)
 //   BM_ContactPass   node-face contact: broad phase + 3 correction passes
 //   BM_ImpactStep    full step of a projectile in a plate (~190k tets at the middle size),
@@ -120,6 +121,7 @@ void BM_ElementKernel(benchmark::State& state) {
 // inside. A uniform compression keeps the neighbour list in use across steps.
 // shuffled: the particles in a random order (fixed seed) instead of the lattice's. Converted
 // particles are numbered in the order their elements converted, far from spatial order.
+// No renumbering (SphControls::order_interval = 0) unless the caller sets it.
 Model particleCube(int n, bool shuffled = false) {
   Model m;
   m.materials.push_back(library().get("OFHC_copper"));
@@ -134,6 +136,7 @@ Model particleCube(int n, bool shuffled = false) {
   const Vec3 centre = 0.5 * n * d * Vec3::Ones();
   for (std::size_t i = 0; i < m.particles.size(); ++i)
     m.particles.v[i] = -2e4 * (m.particles.x[i] - centre);  // 1/s: a 20 m/s squeeze at 1 mm
+  m.sph.controls.order_interval = 0;
   return m;
 }
 
@@ -143,8 +146,14 @@ double meanNeighbours(const Model& m) {
 
 void BM_SphForces(benchmark::State& state) {
   setThreads(state, 2);
-  Model m = particleCube(static_cast<int>(state.range(0)), state.range(1) != 0);
-  for (int i = 0; i < 5; ++i) step(m, 1.0);
+  const long order = state.range(1);
+  Model m = particleCube(static_cast<int>(state.range(0)), order != 0);
+  // order 2: renumbered at the start of step 5, and not again within the timed steps. Every
+  // order times the same steps: the squeeze adds pairs from about step 57 on, and the pair
+  // arrays' growth then faults in fresh pages (~1 s on this VM, docs/performance.md).
+  if (order == 2) m.sph.controls.order_interval = 5;
+  for (int i = 0; i < 6; ++i) step(m, 1.0);
+  m.sph.controls.order_interval = 0;
   for (auto _ : state) step(m, 1.0);  // a particle step: forces, time step, integration
   countItems(state, "particles", static_cast<double>(m.particles.size()));
   state.counters["neighbours"] = meanNeighbours(m);
@@ -250,8 +259,8 @@ BENCHMARK(BM_Stream)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMilli
 BENCHMARK(BM_ElementKernel)->ArgsProduct({{10, 20, 32}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 // n^3 particles: 8k, 27k, 64k
-BENCHMARK(BM_SphForces)->ArgsProduct({{20, 30, 40}, {0, 1}, {1, 2}})
-    ->ArgNames({"n", "shuffled", "threads"})
+BENCHMARK(BM_SphForces)->ArgsProduct({{20, 30, 40}, {0, 1, 2}, {1, 2}})
+    ->ArgNames({"n", "order", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SphMirror)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
