@@ -7,6 +7,7 @@
 #include "app/progress.hpp"
 
 #include "core/analysis/fragments.hpp"
+#include "core/analysis/plate_crossings.hpp"
 #include "core/common/error.hpp"
 #include "core/common/toml_check.hpp"
 #include "core/io/checkpoint.hpp"
@@ -726,6 +727,24 @@ void Workbench::probe(const std::vector<std::string>& a) {
       const ResidualVelocity r = residualVelocity(m, static_cast<int>(b));
       std::printf("  residual        %.2f m/s (largest intact piece, %.1f %% of the mass; %s)\n", r.speed,
                   100 * r.mass_fraction, r.cleared ? "clear of every target" : "not clear of the targets");
+    }
+    // Where its material is: a projectile that breaks up leaves its debris at the plates.
+    const std::vector<MaterialRegion> regions =
+        materialByRegion(m, session().crossings().plates(), static_cast<int>(b));
+    if (!regions.empty())
+      std::printf("  where it is     region: live nodes g (v along the flight m/s) | particles g "
+                  "(v m/s, mean distance from the shot line mm)\n");
+    const Vec3 n = regions.empty() ? Vec3::Zero() : session().crossings().plates()[0].normal;
+    for (const MaterialRegion& g : regions) {
+      if (g.nodes.mass == 0 && g.particles.mass == 0) continue;
+      char nodes[64] = "-", particles[64] = "-";
+      if (g.nodes.mass > 0)
+        std::snprintf(nodes, sizeof nodes, "%.4f (%.1f)", 1e3 * g.nodes.mass,
+                      -g.nodes.velocity.dot(n));
+      if (g.particles.mass > 0)
+        std::snprintf(particles, sizeof particles, "%.4f (%.1f, %.1f)", 1e3 * g.particles.mass,
+                      -g.particles.velocity.dot(n), 1e3 * g.particle_offset);
+      std::printf("    %-24s %-22s | %s\n", g.name.c_str(), nodes, particles);
     }
   }
   const ConversionStats& cs = m.conversion;

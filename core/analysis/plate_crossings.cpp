@@ -47,6 +47,60 @@ MaterialPast materialPast(const Model& model, const PlateCrossing& p, int body, 
   return out;
 }
 
+std::vector<MaterialRegion> materialByRegion(const Model& model,
+                                             const std::vector<PlateCrossing>& plates, int body) {
+  std::vector<MaterialRegion> regions;
+  if (plates.empty() || body < 0) return regions;
+  const Vec3 n = plates[0].normal, o = plates[0].front;
+  const auto depth = [&](const Vec3& x) { return -(x - o).dot(n); };
+  // Region 2k + 1 is plate k, 2k its gap before (0: before the first), 2 N beyond the last.
+  const std::size_t np = plates.size();
+  regions.resize(2 * np + 1);
+  for (std::size_t k = 0; k < np; ++k) {
+    regions[2 * k + 1].name = "in " + plates[k].name;
+    regions[2 * k + 2].name = k + 1 < np ? plates[k].name + " to " + plates[k + 1].name
+                                         : "beyond " + plates[k].name;
+  }
+  regions[0].name = "before " + plates[0].name;
+  const auto regionOf = [&](const Vec3& x) {
+    const double d = depth(x);
+    std::size_t r = 0;
+    for (std::size_t k = 0; k < np; ++k) {
+      const double front = depth(plates[k].front);
+      if (d >= front) r = 2 * k + 1;
+      if (d > front + plates[k].thickness) r = 2 * k + 2;
+    }
+    return r;
+  };
+  std::vector<Vec3> p_node(regions.size(), Vec3::Zero()), p_particle(regions.size(), Vec3::Zero());
+  const Body& b = model.bodies[body];
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+    const double m = model.nodes.m[a];
+    if (!(m > 0)) continue;
+    const std::size_t r = regionOf(model.nodes.x[a]);
+    regions[r].nodes.mass += m;
+    p_node[r] += m * model.nodes.v[a];
+  }
+  const Particles& pa = model.particles;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa.body[i] != body) continue;
+    const std::size_t r = regionOf(pa.x[i]);
+    const Vec3 off = (pa.x[i] - o) - (pa.x[i] - o).dot(n) * n;
+    regions[r].particles.mass += pa.m[i];
+    p_particle[r] += pa.m[i] * pa.v[i];
+    regions[r].particle_offset += pa.m[i] * off.norm();
+  }
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    MaterialRegion& g = regions[r];
+    if (g.nodes.mass > 0) g.nodes.velocity = p_node[r] / g.nodes.mass;
+    if (g.particles.mass > 0) {
+      g.particles.velocity = p_particle[r] / g.particles.mass;
+      g.particle_offset /= g.particles.mass;
+    }
+  }
+  return regions;
+}
+
 PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
   for (std::size_t b = 0; b < model.bodies.size(); ++b)
     if (model.bodies[b].is_projectile && projectile_ < 0) projectile_ = static_cast<int>(b);

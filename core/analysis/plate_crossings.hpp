@@ -55,6 +55,20 @@ struct MaterialPast {
 };
 MaterialPast materialPast(const Model& model, const PlateCrossing& p, int body, double depth);
 
+/// Where the material of `body` is along a spaced-plate target: before the first plate, in
+/// each plate, in each gap, beyond the last. Depths are measured along the first plate's
+/// normal (the plates are parallel); the plates in the order the projectile meets them.
+struct MaterialRegion {
+  std::string name;       ///< "before plate_1", "in plate_1", "plate_1 to plate_2", "beyond plate_4"
+  MaterialPast nodes;     ///< its live nodes (lumped masses) in the region
+  MaterialPast particles; ///< its particles in the region
+  /// The particles' mass-weighted mean distance from the line through the first plate's front
+  /// point along its normal (the shot line of a normal impact), m.
+  double particle_offset = 0;
+};
+std::vector<MaterialRegion> materialByRegion(const Model& model,
+                                             const std::vector<PlateCrossing>& plates, int body);
+
 class PlateCrossings {
  public:
   /// The plates of `scene` (bodies with a plate shape) in the order the projectile meets them

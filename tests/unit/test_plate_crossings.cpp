@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -146,4 +148,67 @@ TEST_CASE("material past a plate counts the live nodes and the particles of the 
   // A rear face at z = -5 mm: nothing of the shot is past it yet.
   plane.front = Vec3(0, 0, -4e-3);
   CHECK(materialPast(m, plane, shot, 1e-3).mass == 0.0);
+}
+
+TEST_CASE("the body's material by region: before, in and between the plates, and beyond",
+          "[unit][analysis]") {
+  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_regions";
+  fs::create_directories(dir);
+  const std::string path = (dir / "scene.toml").string();
+  std::ofstream(path) << kScene;
+  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  Model m = buildModel(sc);
+  const int shot = 0;
+  // The shot (z from 1 to 7 mm) with its front half converted and its particles slowed to
+  // 400 m/s and moved 3 mm off the shot line in x.
+  m.controls.conversion.mode = ConversionMode::Sph;
+  const Body& b = m.bodies[shot];
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
+    double zc = 0;
+    for (int a : m.elems.conn[e]) zc += 0.25 * m.nodes.x[a].z();
+    if (zc < 4e-3) m.elems.state[e].eps_p = 1.0;
+  }
+  REQUIRE(convertElements(m, 1.3) > 0);
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    m.particles.v[i] = Vec3(0, 0, -400);
+    m.particles.x[i].x() += 3e-3;
+  }
+  // Two plates across the shot: A from z = 4.5 down to 3.5 mm, B from 2.2 down to 1.6 mm.
+  std::vector<PlateCrossing> plates(2);
+  plates[0].name = "A", plates[0].front = Vec3(0, 0, 4.5e-3), plates[0].thickness = 1e-3;
+  plates[1].name = "B", plates[1].front = Vec3(0, 0, 2.2e-3), plates[1].thickness = 0.6e-3;
+  const std::vector<MaterialRegion> regions = materialByRegion(m, plates, shot);
+  REQUIRE(regions.size() == 5);
+  CHECK(regions[0].name == "before A");
+  CHECK(regions[1].name == "in A");
+  CHECK(regions[2].name == "A to B");
+  CHECK(regions[3].name == "in B");
+  CHECK(regions[4].name == "beyond B");
+  // The same counted here along z.
+  const auto regionAlongZ = [](double z) {
+    return z > 4.5e-3 ? 0 : z >= 3.5e-3 ? 1 : z > 2.2e-3 ? 2 : z >= 1.6e-3 ? 3 : 4;
+  };
+  std::array<double, 5> nodes{}, particles{}, offset{};
+  double total = 0;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a)
+    if (m.nodes.m[a] > 0) nodes[regionAlongZ(m.nodes.x[a].z())] += m.nodes.m[a], total += m.nodes.m[a];
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    const int r = regionAlongZ(m.particles.x[i].z());
+    particles[r] += m.particles.m[i];
+    offset[r] += m.particles.m[i] * std::hypot(m.particles.x[i].x(), m.particles.x[i].y());
+    total += m.particles.m[i];
+  }
+  CHECK(total == Approx(bodyInitialMass(m, shot)).epsilon(1e-12));
+  int with_particles = 0;
+  for (int r = 0; r < 5; ++r) {
+    CHECK(regions[r].nodes.mass == Approx(nodes[r]).epsilon(1e-12).margin(1e-18));
+    CHECK(regions[r].particles.mass == Approx(particles[r]).epsilon(1e-12).margin(1e-18));
+    if (particles[r] > 0) {
+      ++with_particles;
+      CHECK(regions[r].particles.velocity.z() == Approx(-400).epsilon(1e-12));
+      CHECK(regions[r].particle_offset == Approx(offset[r] / particles[r]).epsilon(1e-12));
+    }
+    if (nodes[r] > 0) CHECK(regions[r].nodes.velocity.z() == Approx(-1000).epsilon(1e-12));
+  }
+  CHECK(with_particles >= 2);  // the converted half spans more than one region
 }
