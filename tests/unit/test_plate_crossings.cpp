@@ -58,6 +58,26 @@ mesh_size = 5e-3
 coarse_size = 5e-3
 )";
 
+/// The scene above (written to a folder of that name under the temporary directory) with the
+/// elements of the shot's front half (nose at z = 1 mm, tail at 7 mm) converted to particles.
+Model shotWithFrontHalfConverted(const char* folder) {
+  const fs::path dir = fs::temp_directory_path() / folder;
+  fs::create_directories(dir);
+  const std::string path = (dir / "scene.toml").string();
+  std::ofstream(path) << kScene;
+  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  Model m = buildModel(sc);
+  m.controls.conversion.mode = ConversionMode::Sph;
+  const Body& b = m.bodies[0];
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
+    double zc = 0;
+    for (int a : m.elems.conn[e]) zc += 0.25 * m.nodes.x[a].z();
+    if (zc < 4e-3) m.elems.state[e].eps_p = 1.0;
+  }
+  REQUIRE(convertElements(m, 1.3) > 0);
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[unit][analysis]") {
@@ -115,24 +135,11 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
 
 TEST_CASE("material past a plate counts the live nodes and the particles of the body",
           "[unit][analysis]") {
-  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_past";
-  fs::create_directories(dir);
-  const std::string path = (dir / "scene.toml").string();
-  std::ofstream(path) << kScene;
-  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
-  Model m = buildModel(sc);
+  Model m = shotWithFrontHalfConverted("fesph_crossings_past");
   const int shot = 0;
-  const double m0 = bodyInitialMass(m, shot);
-  // Convert the elements of the shot's front half (nose at z = 1 mm, tail at 7 mm) and slow
-  // their particles to 400 m/s; the nodes keep 1000 m/s.
-  m.controls.conversion.mode = ConversionMode::Sph;
+  const double m0 = bodyInitialMass(m, shot);  // from the reference volumes
+  // Slow the particles to 400 m/s; the nodes keep 1000 m/s.
   const Body& b = m.bodies[shot];
-  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
-    double zc = 0;
-    for (int a : m.elems.conn[e]) zc += 0.25 * m.nodes.x[a].z();
-    if (zc < 4e-3) m.elems.state[e].eps_p = 1.0;
-  }
-  REQUIRE(convertElements(m, 1.3) > 0);
   double m_particles = 0, m_nodes = 0;
   for (std::size_t i = 0; i < m.particles.size(); ++i)
     m.particles.v[i] = Vec3(0, 0, -400), m_particles += m.particles.m[i];
@@ -152,23 +159,10 @@ TEST_CASE("material past a plate counts the live nodes and the particles of the 
 
 TEST_CASE("the body's material by region: before, in and between the plates, and beyond",
           "[unit][analysis]") {
-  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_regions";
-  fs::create_directories(dir);
-  const std::string path = (dir / "scene.toml").string();
-  std::ofstream(path) << kScene;
-  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
-  Model m = buildModel(sc);
+  Model m = shotWithFrontHalfConverted("fesph_crossings_regions");
   const int shot = 0;
-  // The shot (z from 1 to 7 mm) with its front half converted and its particles slowed to
-  // 400 m/s and moved 3 mm off the shot line in x.
-  m.controls.conversion.mode = ConversionMode::Sph;
   const Body& b = m.bodies[shot];
-  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
-    double zc = 0;
-    for (int a : m.elems.conn[e]) zc += 0.25 * m.nodes.x[a].z();
-    if (zc < 4e-3) m.elems.state[e].eps_p = 1.0;
-  }
-  REQUIRE(convertElements(m, 1.3) > 0);
+  // Its particles slowed to 400 m/s and moved 3 mm off the shot line in x.
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
     m.particles.v[i] = Vec3(0, 0, -400);
     m.particles.x[i].x() += 3e-3;
