@@ -88,8 +88,10 @@ void renumberParticles(Model& model, const std::vector<int>& order) {
   forEachArray(pa, renumber);
   // The snapshot of the last step's forces is the next step's previous configuration.
   forEachArray(ws.current, renumber);
-  // Kept by index, and only a cost saving: the next step computes them afresh.
-  ws.neighbours = NeighbourList{};
+  // Kept by index, and only a cost saving: the next step computes them afresh. Emptied, not
+  // freed: fresh pages for the pair arrays cost ~15 us each on this VM (docs/performance.md).
+  ws.neighbours.offset.clear();
+  ws.neighbours.index.clear();
   ws.pair_grad.clear();
   ws.pair_stab.clear();
   ws.search.forgetCandidates();
