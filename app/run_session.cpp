@@ -86,11 +86,27 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   std::error_code ec;
   const bool own =
       out_folder.empty() || fs::equivalent(out_folder, parent.empty() ? "." : parent, ec);
+  if (own) refuseToCutLaterCheckpoints(checkpoint);
   openWriters(own, saved);
   started_ = true;
   output_index_ = saved.output_index;
   next_output_ = saved.next_output;
   next_checkpoint_ = saved.next_checkpoint;
+}
+
+// Going back in the checkpoint's own folder cuts its series and histories back to the
+// checkpoint; a later checkpoint there would lose the records it needs to be restarted.
+void RunSession::refuseToCutLaterCheckpoints(const std::string& checkpoint) const {
+  const std::string here = fs::path(checkpointPath(folder(), model_.step)).filename().string();
+  std::string later;
+  for (const std::string& path : listCheckpoints(folder()))
+    if (fs::path(path).filename().string() > here) later = fs::path(path).filename().string();
+  if (later.empty()) return;
+  throw RunError(folder() + " holds a later checkpoint (" + later + ") than " + checkpoint +
+                 " (step " + std::to_string(model_.step) +
+                 "); going on from it there would cut the run's series and histories back "
+                 "and leave the later checkpoint without them. Restart into another folder "
+                 "(--out DIR), or delete the later checkpoints to go back in this one");
 }
 
 void RunSession::openWriters(bool resume, const RunProgress& saved) {

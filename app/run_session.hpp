@@ -97,6 +97,7 @@ class RunSession {
  private:
   void writeOutput();
   void recordHistory();
+  void refuseToCutLaterCheckpoints(const std::string& checkpoint) const;
   void openWriters(bool resume, const RunProgress& progress);
   RunProgress progress() const;
 

@@ -309,7 +309,8 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "From the run's history.csv, to RUN_FOLDER/shell/velocity.png.", &Workbench::plot},
       {"probe", "probe", "projectile velocity and position, counts, energies",
        "Per projectile: mean velocity, centre of mass, nose (its most advanced point along the\n"
-       "flight), residual velocity of the largest intact piece. Then element, node and particle\n"
+       "flight), residual velocity of the largest intact piece and how far its leading node is\n"
+       "from the next plate's measuring plane. Then element, node and particle\n"
        "counts and the energy budget.",
        &Workbench::probe},
       {"compare", "compare --image PHOTO --mm-per-px S [--plate N] [...]",
@@ -322,11 +323,12 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "Default file: RUN_FOLDER/checkpoint_STEP.h5 (the scene's [output].checkpoints_kept\n"
        "newest are kept). The run also writes them at [output].checkpoint_interval.",
        &Workbench::checkpoint},
-      {"restart", "restart [FILE] [KEY=VALUE ...]", "go back to a saved state and go on from it",
+      {"restart", "restart [FILE] [--out DIR] [KEY=VALUE ...]", "go back to a saved state and go on from it",
        "Default FILE: the newest checkpoint of the current run folder. The scene is the one\n"
        "saved in the checkpoint; KEY=VALUE changes may move its end time. The series and\n"
        "histories of its run folder are cut back to the checkpoint and continued, as for\n"
-       "`fesph run --restart`.",
+       "`fesph run --restart`; refused while that folder holds a later checkpoint (it would\n"
+       "lose its records). --out DIR goes on in DIR instead, with fresh series and histories.",
        &Workbench::restart},
       {"export", "export state [DIR] | export scene FILE", "write the current state or scene",
        "state: the model now as a ParaView series of one step (elements.pvd, particles.pvd) in\n"
@@ -727,6 +729,17 @@ void Workbench::probe(const std::vector<std::string>& a) {
       const ResidualVelocity r = residualVelocity(m, static_cast<int>(b));
       std::printf("  residual        %.2f m/s (largest intact piece, %.1f %% of the mass; %s)\n", r.speed,
                   100 * r.mass_fraction, r.cleared ? "clear of every target" : "not clear of the targets");
+      // How far the piece's leading node still is from the next measuring plane.
+      for (const PlateCrossing& p : session().crossings().plates()) {
+        if (p.t_measured >= 0) continue;
+        const std::vector<Piece> pieces = bodyPieces(m, static_cast<int>(b));
+        if (pieces.empty()) break;
+        double deepest = -1e300;
+        for (int n : pieces[0].nodes) deepest = std::max(deepest, (p.front - m.nodes.x[n]).dot(p.normal));
+        std::printf("  piece's lead    %.3f mm before the measuring plane of '%s' (v_k not yet taken)\n",
+                    (p.measure_depth - deepest) * 1e3, p.name.c_str());
+        break;
+      }
     }
     // Where its material is: a projectile that breaks up leaves its debris at the plates.
     const std::vector<MaterialRegion> regions =
@@ -775,15 +788,18 @@ void Workbench::checkpoint(const std::vector<std::string>& a) {
 }
 
 void Workbench::restart(const std::vector<std::string>& a) {
-  std::string path;
+  const char* usage = "usage: restart [FILE] [--out DIR] [KEY=VALUE ...]";
+  std::string path, out;
   std::vector<std::string> changes;
-  for (const std::string& w : a) {
-    if (w.find('=') != std::string::npos)
-      changes.push_back(w);
-    else if (path.empty())
-      path = w;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k] == "--out" && k + 1 < a.size() && out.empty())
+      out = a[++k];
+    else if (a[k].find('=') != std::string::npos)
+      changes.push_back(a[k]);
+    else if (path.empty() && a[k] != "--out")
+      path = a[k];
     else
-      throw UsageError("usage: restart [FILE] [KEY=VALUE ...]");
+      throw UsageError(usage);
   }
   if (path.empty()) {  // the newest checkpoint of the current run
     const std::vector<std::string> saved = listCheckpoints(runFolder());
@@ -791,7 +807,7 @@ void Workbench::restart(const std::vector<std::string>& a) {
     path = saved.back();
   }
   auto s = std::make_unique<RunSession>();
-  s->restart(path, changes, "", &std::cout);
+  s->restart(path, changes, out, &std::cout);
   // The scene is the one saved in the checkpoint, with the --set changes it lists.
   const Scene& sc = s->scene();
   overrides_ = listedChanges(sc.text);

@@ -3,6 +3,7 @@
 // tenths of a second a run): a script piped in (load, set, step, run, render, plot, probe,
 // export, errors), and an interactive session on a pseudo-terminal (tab completion, history,
 // Ctrl-C pausing a run without losing its state).
+#include "core/io/checkpoint.hpp"
 #include "tests/support/temp_folder.hpp"
 
 #include <catch2/catch.hpp>
@@ -191,6 +192,19 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(r.out.find("total: 1332 elements") != std::string::npos);
   CHECK(r.out.find(", step 10, dt = ") != std::string::npos);
   std::smatch m;
+  // The intact piece's lead before the measuring plane, one gap (the projectile's 6 mm) behind
+  // the 2 mm plate: 8.3 mm at the start (the nose 0.3 mm off the plate), less the <= 600 m/s
+  // flight of 10 steps; the second probe (3 us) is nearer.
+  {
+    const std::regex lead("piece's lead    ([0-9.]+) mm before the measuring plane of 'plate'");
+    std::vector<double> leads;
+    for (auto it = std::sregex_iterator(r.out.begin(), r.out.end(), lead); it != std::sregex_iterator(); ++it)
+      leads.push_back(std::stod((*it)[1]));
+    REQUIRE(leads.size() == 2);
+    CHECK(leads[0] < 8.3);
+    CHECK(leads[0] > 8.0);
+    CHECK(leads[1] < leads[0] - 0.5);
+  }
   // Only `run to 1.5us` ends with such a line after `step 10`: it stops at the first step past.
   {
     const std::string tail = r.out.substr(r.out.find(", step 10, dt = ") + 1);
@@ -282,6 +296,34 @@ TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[ap
   const auto block = [&](std::size_t at) { return r.out.substr(at, r.out.find("balance error", at) - at); };
   CHECK(block(first) == block(second));
   CHECK(r.out.find("none.h5") != std::string::npos);
+}
+
+TEST_CASE("fesph shell: going back past a later checkpoint is refused, --out goes on elsewhere",
+          "[app][shell]") {
+  TempFolder dir("shell_restart_older");
+  const fs::path out = dir.path / "run";
+  const Result first = shell(kScene + " --out " + out.string(),
+                             "set simulation.end_time=2e-6\nrun to 1us\ncheckpoint\nrun\ncheckpoint\n",
+                             dir.path);
+  INFO(first.out);
+  REQUIRE(first.code == 0);
+  const std::vector<std::string> saved = fesph::listCheckpoints(out.string());
+  REQUIRE(saved.size() == 2);
+  const std::string history = slurp(out / "history.csv");
+
+  // Going back to the older one in its own folder would cut the history the newer one needs.
+  const fs::path elsewhere = dir.path / "from_older";
+  const Result r = shell("", "restart " + saved[0] + "\nrestart " + saved[0] + " --out " +
+                                 elsewhere.string() + "\nrun\nrestart " + saved[1] + "\nprobe\n",
+                         dir.path);
+  INFO(r.out);
+  CHECK(r.code == 1);  // the refused restart
+  CHECK(r.out.find("holds a later checkpoint (" + fs::path(saved[1]).filename().string() + ")") !=
+        std::string::npos);
+  CHECK(r.out.find("output continues in " + elsewhere.string()) != std::string::npos);
+  CHECK(slurp(out / "history.csv") == history);  // the run folder's records untouched
+  CHECK(fs::exists(elsewhere / "history.csv"));
+  CHECK(r.out.find("Restarted at t = 2e-06 s") != std::string::npos);  // the newer one still works
 }
 
 TEST_CASE("fesph shell on a terminal: completion, history, Ctrl-C pauses a run", "[app][shell]") {
