@@ -10,6 +10,10 @@ namespace fesph {
 
 namespace {
 
+// Up to this share of the particles past their Verlet margin are re-seated (paired again
+// through a grid); more, and the list is built afresh, which costs about as much.
+constexpr std::size_t kReseatShare = 8;  // 1 in 8
+
 /// Compressed rows built in parallel without atomics: each thread takes one contiguous block
 /// of rows, collects them in its own buffer, and copies the buffer to its place once the
 /// row lengths are known. The result is the same for any number of threads.
@@ -149,34 +153,66 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
   // (conversions) keep the list if the others kept their bodies: they get their rows then.
   const bool appended = n > n_built && n_built > 0 &&
                         std::equal(body_built.begin(), body_built.end(), body.begin());
-  bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built);
+  // Pairs added since the build (births, re-seats) are kept with the stale ones: once they
+  // make a third of the list, a build sheds the stale pairs the filter keeps testing.
+  bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built) ||
+                 3 * pairs_added > candidates.index.size();
   if (!rebuild) {
     // The motion is measured relative to a translation u shared by all the particles that can
     // pair (each body for SPH pairs, everyone for pairs across bodies): a pair's distance
     // changes by at most |d_i - u| + |d_j - u| for any common u, so a body's particles
     // flying on together force fewer builds (115 -> 86 over 344 steps late in the four-plate
-    // quick run). u is the centre of the displacements' box.
+    // quick run). u is the median displacement, component by component: a few particles
+    // flying off fast (debris) do not move it, as they moved the centre of the box.
     std::size_t n_groups = 1;
     if (per_body)
       for (std::size_t i = 0; i < n_built; ++i)
         n_groups = std::max(n_groups, static_cast<std::size_t>(body[i]) + 1);
-    std::vector<Vec3> lo(n_groups, Vec3::Constant(1e300)), hi(n_groups, Vec3::Constant(-1e300));
-    for (std::size_t i = 0; i < n_built; ++i) {
-      const std::size_t g = per_body ? static_cast<std::size_t>(body[i]) : 0;
-      lo[g] = lo[g].cwiseMin(x[i] - x_built[i]);
-      hi[g] = hi[g].cwiseMax(x[i] - x_built[i]);
+    std::vector<Vec3> shift(n_groups, Vec3::Zero());
+    std::vector<std::vector<double>> comp(n_groups);
+    for (int a = 0; a < 3; ++a) {
+      for (auto& v : comp) v.clear();
+      for (std::size_t i = 0; i < n_built; ++i)
+        comp[per_body ? static_cast<std::size_t>(body[i]) : 0].push_back(x[i][a] - x_built[i][a]);
+      for (std::size_t g = 0; g < n_groups; ++g) {
+        std::vector<double>& v = comp[g];
+        if (v.empty()) continue;
+        std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+        shift[g][a] = v[v.size() / 2];
+      }
     }
-    std::vector<Vec3> shift(n_groups);
-    for (std::size_t g = 0; g < n_groups; ++g) shift[g] = 0.5 * (lo[g] + hi[g]);
     const long nb = static_cast<long>(n_built);
-#pragma omp parallel for schedule(static) reduction(|| : rebuild)
+    long past = 0;
+#pragma omp parallel for schedule(static) reduction(+ : past)
     for (long i = 0; i < nb; ++i) {
       const Vec3& u = shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
       const double drift = (x[i] - x_built[i] - u).norm() + std::max(0.0, r[i] - r_built[i]);
-      if (!(drift <= 0.99 * 0.5 * skin * r_built[i])) rebuild = true;
+      if (!(drift <= 0.99 * 0.5 * skin * r_built[i])) ++past;
+    }
+    // A few particles past their margin (late in a run: debris flying off fast, which would
+    // force a build every few steps) are re-seated: built again where they would be had they
+    // moved with the shift u, so their drift starts from zero, and paired afresh
+    // (pairAgain). The triangle inequality holds whatever position each particle was
+    // built at, as for appended particles.
+    reseated.clear();
+    if (static_cast<std::size_t>(past) * kReseatShare > n_built) {
+      rebuild = true;
+    } else if (past > 0) {
+      for (std::size_t i = 0; i < n_built; ++i) {
+        const Vec3& u = shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
+        const double drift = (x[i] - x_built[i] - u).norm() + std::max(0.0, r[i] - r_built[i]);
+        if (drift <= 0.99 * 0.5 * skin * r_built[i]) continue;
+        reseated.push_back(static_cast<int>(i));
+        x_built[i] = x[i] - u;
+        r_built[i] = r[i];
+        r_wide[i] = (1.0 + 0.5 * skin) * r[i];
+      }
+      reseats += past;
     }
   }
   if (rebuild) {
+    reseated.clear();
+    pairs_added = 0;
     r_wide.resize(n);
     for (std::size_t i = 0; i < n; ++i) r_wide[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * r[i];
     x_built = x;
@@ -195,85 +231,113 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
   return false;
 }
 
-void NeighbourSearch::appendCandidates(Verlet& v, std::size_t n_old, bool cross) {
-  // The triangle inequality holds whatever position each particle was built at, so a new
-  // particle is built at its birth position and paired with the others at theirs: the
-  // candidates are then the pairs a fresh build would give if each particle had stayed where
-  // it was built, and every later drift check measures from there.
+void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool cross) {
+  // The triangle inequality holds whatever position each particle was built at, so a particle
+  // built again (appended, or re-seated) is paired at its new built position with the others
+  // at theirs: the candidates are then the pairs a fresh build would give if each particle had
+  // stayed where it was built, and every later drift check measures from there. The pairs it
+  // had stay (a superset is harmless: the filter decides); only the missing ones are added.
   const std::size_t n = v.x_built.size();
   const std::vector<int>& body = v.body_built;
-  // One grid of the built positions: per body that got particles, or one over all (cross).
+  NeighbourList& c = v.candidates;
+  if (c.offset.empty()) c.offset.assign(1, 0);
+  c.offset.resize(n + 1, c.offset.back());  // appended particles: empty rows
+
+  // One grid of the built positions: per body that has such particles, or one over all (cross).
   int n_grids = 1;
   if (!cross)
     for (int b : body) n_grids = std::max(n_grids, b + 1);
   const auto grid_of = [&](std::size_t i) { return cross ? 0 : body[i]; };
-  std::vector<char> grown(static_cast<std::size_t>(n_grids), 0);
-  for (std::size_t i = n_old; i < n; ++i) grown[grid_of(i)] = 1;
+  std::vector<char> in_again(n, 0), needed(static_cast<std::size_t>(n_grids), 0);
+  for (int i : again) {
+    in_again[static_cast<std::size_t>(i)] = 1;
+    needed[grid_of(static_cast<std::size_t>(i))] = 1;
+  }
   ids_.resize(static_cast<std::size_t>(n_grids));
   for (auto& ids : ids_) ids.clear();
   std::vector<double> r_max(static_cast<std::size_t>(n_grids), 0.0);
   for (std::size_t i = 0; i < n; ++i)
-    if (grown[grid_of(i)]) {
+    if (needed[grid_of(i)]) {
       ids_[grid_of(i)].push_back(static_cast<int>(i));
       r_max[grid_of(i)] = std::max(r_max[grid_of(i)], v.r_wide[i]);
     }
   grids_.resize(static_cast<std::size_t>(n_grids));
   for (int g = 0; g < n_grids; ++g)
-    if (grown[g]) grids_[g].build(v.x_built, ids_[g], 2.0 * r_max[g]);
+    if (needed[g]) grids_[g].build(v.x_built, ids_[g], 2.0 * r_max[g]);
 
-  // All partners of each new particle, with the fresh search's test on the built positions.
-  // A row keeps its partners above it only (cross) or all (same body); a new particle joins
-  // the rows of its old partners at their ends (it is larger than anything in them).
-  std::vector<std::vector<int>> rows(n - n_old);
-  std::vector<std::pair<int, int>> joins;  // (old partner, new particle), new ones ascending
-  std::vector<std::size_t> extra(n_old, 0);
-  for (std::size_t i = n_old; i < n; ++i) {
-    std::vector<int>& row = rows[i - n_old];
-    const Vec3 xi = v.x_built[i];
-    const double ri = v.r_wide[i];
-    grids_[grid_of(i)].forEachCandidate(xi, [&](int j) {
-      const double reach = ri + v.r_wide[j];
-      if (j != static_cast<int>(i) && (body[j] != body[i]) == cross &&
-          (xi - v.x_built[j]).squaredNorm() < reach * reach)
-        row.push_back(j);
-    });
-    std::sort(row.begin(), row.end());
-    for (int j : row)
-      if (static_cast<std::size_t>(j) < n_old) {
-        joins.emplace_back(j, static_cast<int>(i));
-        ++extra[j];
+  // The fresh search's test on the built positions. A pair goes to the rows of both partners
+  // (same body) or of the lower one (cross); a pair of two such particles is found once.
+  const long na = static_cast<long>(again.size());
+  std::vector<std::vector<std::pair<int, int>>> found(again.size());  // (row, partner)
+#pragma omp parallel for schedule(dynamic, 16) if (na > 64)
+  for (long k = 0; k < na; ++k) {
+    const int i = again[static_cast<std::size_t>(k)];
+    const Vec3 xi = v.x_built[static_cast<std::size_t>(i)];
+    const double ri = v.r_wide[static_cast<std::size_t>(i)];
+    grids_[grid_of(static_cast<std::size_t>(i))].forEachCandidate(xi, [&](int j) {
+      const std::size_t js = static_cast<std::size_t>(j);
+      if (j == i || (body[js] != body[static_cast<std::size_t>(i)]) != cross) return;
+      if (in_again[js] && j < i) return;  // that pair comes from j's own search
+      const double reach = ri + v.r_wide[js];
+      if (!((xi - v.x_built[js]).squaredNorm() < reach * reach)) return;
+      if (cross) {
+        found[k].emplace_back(std::min(i, j), std::max(i, j));
+      } else {
+        found[k].emplace_back(i, j);
+        found[k].emplace_back(j, i);
       }
-    if (cross) row.erase(row.begin(), std::upper_bound(row.begin(), row.end(), static_cast<int>(i)));
+    });
   }
-  const NeighbourList& old = v.candidates;
+  std::vector<std::pair<int, int>> add;
+  for (const auto& f : found) add.insert(add.end(), f.begin(), f.end());
+  const auto holds = [&](const std::pair<int, int>& e) {
+    const auto first = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[e.first]);
+    const auto last = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[e.first + 1]);
+    return std::binary_search(first, last, e.second);
+  };
+  add.erase(std::remove_if(add.begin(), add.end(), holds), add.end());
+  if (add.empty()) return;
+  std::sort(add.begin(), add.end());
+  v.pairs_added += add.size();
+
+  // Merge them into the rows, which stay ascending as a fresh build gives them.
   std::vector<std::size_t> offset(n + 1, 0);
-  for (std::size_t i = 0; i < n_old; ++i)
-    offset[i + 1] = offset[i] + (old.offset[i + 1] - old.offset[i]) + extra[i];
-  for (std::size_t i = n_old; i < n; ++i) offset[i + 1] = offset[i] + rows[i - n_old].size();
+  for (const auto& e : add) ++offset[static_cast<std::size_t>(e.first) + 1];
+  for (std::size_t i = 0; i < n; ++i) offset[i + 1] += offset[i] + (c.offset[i + 1] - c.offset[i]);
   std::vector<int> index(offset[n]);
-  std::vector<std::size_t> fill(n_old);
-  for (std::size_t i = 0; i < n_old; ++i)
-    fill[i] = static_cast<std::size_t>(
-        std::copy(old.index.begin() + static_cast<std::ptrdiff_t>(old.offset[i]),
-                  old.index.begin() + static_cast<std::ptrdiff_t>(old.offset[i + 1]),
-                  index.begin() + static_cast<std::ptrdiff_t>(offset[i])) -
-        index.begin());
-  for (const auto& [j, i] : joins) index[fill[j]++] = i;
-  for (std::size_t i = n_old; i < n; ++i)
-    std::copy(rows[i - n_old].begin(), rows[i - n_old].end(),
-              index.begin() + static_cast<std::ptrdiff_t>(offset[i]));
-  v.candidates.offset.swap(offset);
-  v.candidates.index.swap(index);
+  auto next = add.begin();
+  for (std::size_t i = 0; i < n; ++i) {
+    auto out = index.begin() + static_cast<std::ptrdiff_t>(offset[i]);
+    auto from = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[i]);
+    const auto last = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[i + 1]);
+    for (; next != add.end() && next->first == static_cast<int>(i); ++next) {
+      const auto upto = std::upper_bound(from, last, next->second);
+      out = std::copy(from, upto, out);
+      from = upto;
+      *out++ = next->second;
+    }
+    std::copy(from, last, out);
+  }
+  c.offset.swap(offset);
+  c.index.swap(index);
+}
+
+/// Rows of the candidates for the particles appended since the last update and the ones
+/// re-seated by it.
+void NeighbourSearch::pairAgain(Verlet& v, std::size_t n_old, bool cross) {
+  std::vector<int> again = v.reseated;
+  for (std::size_t i = n_old; i < v.x_built.size(); ++i) again.push_back(static_cast<int>(i));
+  if (!again.empty()) pairAgain(v, again, cross);
 }
 
 void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
                                           const std::vector<int>& body, double skin,
                                           NeighbourList& out) {
-  const std::size_t n = x.size(), n_old = sph_.x_built.size();
+  const std::size_t n_old = sph_.x_built.size();
   if (sph_.update(x, h, body, skin, true))
     sphNeighbours(x, sph_.r_wide, body, sph_.candidates);
-  else if (n > n_old)
-    appendCandidates(sph_, n_old, false);
+  else
+    pairAgain(sph_, n_old, false);
   filterCandidates(x, h, sph_.candidates, thread_index_, count_, out);
 }
 
@@ -331,11 +395,11 @@ void NeighbourSearch::crossBodyPairs(const std::vector<Vec3>& x, const std::vect
 void NeighbourSearch::crossBodyPairsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
                                            const std::vector<int>& body, double skin,
                                            std::vector<std::pair<int, int>>& out) {
-  const std::size_t n = x.size(), n_old = contact_.x_built.size();
+  const std::size_t n_old = contact_.x_built.size();
   if (contact_.update(x, r, body, skin, false))
     crossBodyRows(x, contact_.r_wide, body, contact_.candidates);
-  else if (n > n_old)
-    appendCandidates(contact_, n_old, true);
+  else
+    pairAgain(contact_, n_old, true);
   filterCandidates(x, r, contact_.candidates, thread_index_, count_, rows_);
   rowsToPairs(rows_, out);
 }

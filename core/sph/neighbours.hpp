@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Neighbour search for the SPH layer: a hashed uniform cell list (O(N)), SPH pairs within one
-// body (from scratch, or through a Verlet list rebuilt only when particles moved enough), contact pairs across bodies, and a brute-force reference.
+// body (from scratch, or through a Verlet list rebuilt only when many particles moved enough;
+// a few are re-seated), contact pairs across bodies, and a brute-force reference.
 #pragma once
 
 #include "core/common/reflection.hpp"
@@ -63,16 +64,18 @@ class NeighbourSearch {
                      const std::vector<int>& body, NeighbourList& out);
 
   /// sphNeighbours through a Verlet list: candidate pairs within the support widened by
-  /// (1 + skin/2), rebuilt only when a particle has moved (relative to a translation common
-  /// to its body), or its h grown, by more than its share of the skin since the last build
-  /// (or the particles changed other than by particles appended at the end, which get their
-  /// candidates added instead). The candidates are filtered with sphNeighbours' own test at
+  /// (1 + skin/2), rebuilt only when more than 1 in 8 particles have moved (relative to their
+  /// body's median translation), or their h grown, by more than their share of the skin since
+  /// they were built (or the particles changed other than by particles appended at the end);
+  /// fewer such particles, and the appended ones, are paired again where they are. The candidates are filtered with sphNeighbours' own test at
   /// every call, so `out` is bit for bit the list a fresh sphNeighbours gives: when the
   /// candidates were built never changes a result.
   void sphNeighboursVerlet(const std::vector<Vec3>& x, const std::vector<double>& h,
                            const std::vector<int>& body, double skin, NeighbourList& out);
   /// Builds of the Verlet candidate list so far.
   long verletBuilds() const { return sph_.builds; }
+  /// Particles re-seated in the Verlet lists (SPH and contact) so far instead of a build.
+  long verletReseats() const { return sph_.reseats + contact_.reseats; }
 
   /// Contact candidates: pairs (i < j) of different bodies with |x_i - x_j| < r_i + r_j,
   /// sorted by (i, j). One grid over all points with cells of 2 max(r).
@@ -111,15 +114,25 @@ class NeighbourSearch {
     std::vector<double> r_built, r_wide;
     std::vector<int> body_built;
     long builds = 0;
+    /// The few particles past their margin at the last update, ascending, when they were
+    /// re-seated instead of rebuilding the list (pairAgain gives them their rows).
+    std::vector<int> reseated;
+    long reseats = 0;
+    std::size_t pairs_added = 0;  ///< candidate pairs added by pairAgain since the build
     /// Whether the candidates must be built afresh (then the built state is taken from x,
-    /// r and body); otherwise appended particles are added to the built state.
+    /// r and body); otherwise appended particles are added to the built state, and a few
+    /// particles past their margin (up to 1 in kReseatShare) are re-seated (`reseated`).
     /// per_body: pairs only form within a body (its translation is then its own).
     bool update(const std::vector<Vec3>& x, const std::vector<double>& r,
                 const std::vector<int>& body, double skin, bool per_body);
   };
-  /// Candidates of the particles from n_old on, appended since the last build: same-body
-  /// pairs in full rows, or (cross) pairs of different bodies in rows of the larger partner.
-  void appendCandidates(Verlet& v, std::size_t n_old, bool cross);
+  /// Pair the particles `again` (ascending) at their built positions with all the others:
+  /// the candidate pairs they lack are added, the rows staying ascending (same body: full
+  /// rows; cross: a pair in the row of its lower partner). Rows for particles appended since
+  /// the last build are added first.
+  void pairAgain(Verlet& v, const std::vector<int>& again, bool cross);
+  /// pairAgain for the particles from n_old on (appended) and the re-seated ones.
+  void pairAgain(Verlet& v, std::size_t n_old, bool cross);
   /// crossBodyPairs as rows of the partners j > i.
   void crossBodyRows(const std::vector<Vec3>& x, const std::vector<double>& r,
                      const std::vector<int>& body, NeighbourList& rows);

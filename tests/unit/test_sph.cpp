@@ -194,22 +194,66 @@ TEST_CASE("sph Verlet list follows a body flying on together: exact, and few bui
   // 0.02 h on top; body 1 stays. Drift is judged relative to each body's own translation
   // (a pair changes its distance by at most |d_i - u| + |d_j - u| for any common u), so the
   // list must stay equal to a fresh search at every call while being built only a few times;
-  // then one particle of body 0 turns back (2 h against the flow) and must force a build.
+  // then one particle of body 0 turns back (2 h against the flow): it alone is past its
+  // margin, so it is re-seated (paired again where it is) instead of a build; then a third
+  // of the particles jump 2 h, past the 1 in 8 that are re-seated: that forces a build.
   DriftingCloud c = driftingCloud(11, Vec3(0, 0, 0.2 * 0.4e-3));
   NeighbourSearch search;
   NeighbourList verlet, fresh;
   const int calls = 30;
-  long builds_before_turn = 0;
+  long builds_before_turn = 0, reseats_before_turn = 0, builds_before_jump = 0;
   for (int k = 0; k < calls; ++k) {
     if (k == 20) {
       builds_before_turn = search.verletBuilds();
+      reseats_before_turn = search.verletReseats();
       c.x[4] -= Vec3(0, 0, 2.0 * c.h[4]);
     }
+    if (k == 25) {
+      builds_before_jump = search.verletBuilds();
+      for (std::size_t i = 0; i < c.x.size(); i += 3) c.x[i] += Vec3(2.0 * c.h[i], 0, 0);
+    }
     requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
+    if (k == 20) {
+      CHECK(search.verletBuilds() == builds_before_turn);
+      CHECK(search.verletReseats() > reseats_before_turn);
+    }
     for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i];
   }
   CHECK(builds_before_turn < 20 / 3);  // measured on absolute motion: a build every call
-  CHECK(search.verletBuilds() > builds_before_turn);  // the turn did force one
+  CHECK(search.verletBuilds() > builds_before_jump);  // the jump of a third did force one
+}
+
+TEST_CASE("sph Verlet list re-seats a fast particle crossing a cloud: exact, no builds",
+          "[unit][sph]") {
+  // A particle flies through a still cloud at 0.4 h per call (debris late in a run): past its
+  // 0.15 h margin every call, it is re-seated each time instead of a build; the list must
+  // equal a fresh search at every call, and the contact pairs too (a second body's particle
+  // flying through the first's).
+  DriftingCloud c = driftingCloud(5, Vec3::Zero());
+  for (Vec3& d : c.drift) d.setZero();
+  c.x[0] = Vec3(-3.2e-3, 0.1e-3, 0.05e-3);  // body 0, enters from -x
+  c.x[1] = Vec3(3.2e-3, -0.1e-3, 0.0);      // body 1, enters from +x
+  NeighbourSearch search;
+  NeighbourList verlet, fresh;
+  std::vector<std::pair<int, int>> pairs, reference;
+  const int calls = 40;
+  for (int k = 0; k < calls; ++k) {
+    requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
+    search.crossBodyPairsVerlet(c.x, c.h, c.body, 0.3, pairs);
+    reference.clear();
+    for (std::size_t i = 0; i < c.x.size(); ++i)
+      for (std::size_t j = i + 1; j < c.x.size(); ++j)
+        if (c.body[i] != c.body[j] &&
+            (c.x[i] - c.x[j]).squaredNorm() < (c.h[i] + c.h[j]) * (c.h[i] + c.h[j]))
+          reference.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    INFO("call " << k);
+    REQUIRE(pairs == reference);
+    c.x[0] += Vec3(0.4 * c.h[0], 0, 0);
+    c.x[1] -= Vec3(0.4 * c.h[1], 0, 0);
+  }
+  CHECK(search.verletBuilds() == 1);  // the first call's only
+  CHECK(search.contactVerletBuilds() == 1);
+  CHECK(search.verletReseats() >= 2 * (calls - 1));
 }
 
 TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born",
