@@ -181,14 +181,19 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
         shift[g][a] = v[v.size() / 2];
       }
     }
+    const auto shiftOf = [&](std::size_t i) -> const Vec3& {
+      return shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
+    };
+    const auto pastMargin = [&](std::size_t i) {
+      const double drift =
+          (x[i] - x_built[i] - shiftOf(i)).norm() + std::max(0.0, r[i] - r_built[i]);
+      return !(drift <= 0.99 * 0.5 * skin * r_built[i]);
+    };
     const long nb = static_cast<long>(n_built);
     long past = 0;
 #pragma omp parallel for schedule(static) reduction(+ : past)
-    for (long i = 0; i < nb; ++i) {
-      const Vec3& u = shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
-      const double drift = (x[i] - x_built[i] - u).norm() + std::max(0.0, r[i] - r_built[i]);
-      if (!(drift <= 0.99 * 0.5 * skin * r_built[i])) ++past;
-    }
+    for (long i = 0; i < nb; ++i)
+      if (pastMargin(static_cast<std::size_t>(i))) ++past;
     // A few particles past their margin (late in a run: debris flying off fast, which would
     // force a build every few steps) are re-seated: built again where they would be had they
     // moved with the shift u, so their drift starts from zero, and paired afresh
@@ -199,11 +204,9 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
       rebuild = true;
     } else if (past > 0) {
       for (std::size_t i = 0; i < n_built; ++i) {
-        const Vec3& u = shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
-        const double drift = (x[i] - x_built[i] - u).norm() + std::max(0.0, r[i] - r_built[i]);
-        if (drift <= 0.99 * 0.5 * skin * r_built[i]) continue;
+        if (!pastMargin(i)) continue;
         reseated.push_back(static_cast<int>(i));
-        x_built[i] = x[i] - u;
+        x_built[i] = x[i] - shiftOf(i);
         r_built[i] = r[i];
         r_wide[i] = (1.0 + 0.5 * skin) * r[i];
       }
