@@ -18,6 +18,7 @@
 #include <csignal>
 #include <cstring>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <sys/wait.h>
 #include <thread>
@@ -250,6 +251,17 @@ TEST_CASE("fesph run --restart continues the series and histories, also after a 
   REQUIRE(shell(runCmd(sceneRun(whole), dir.path / "whole.log")) == 0);
   const std::vector<std::string> ckpts = listCheckpoints(whole.string());
   REQUIRE(ckpts.size() == 3);  // at 0.5 and 1.0 us and at the end
+  {
+    // The figures of merit count the neighbour-list builds: the Verlet skin must save most.
+    const std::string log = slurp(dir.path / "whole.log");
+    INFO(log);
+    std::smatch m;
+    REQUIRE(std::regex_search(log, m, std::regex("neighbour lists  ([0-9]+) SPH and ([0-9]+) contact "
+                                                 "builds in ([0-9]+) steps, ([0-9]+) particles re-seated")));
+    CHECK(std::stol(m[1]) >= 1);
+    CHECK(std::stol(m[1]) < std::stol(m[3]) / 2);
+    CHECK(std::stol(m[2]) < std::stol(m[3]) / 2);
+  }
 
   // Split run: everything the whole run wrote (as if it had been stopped late), but only
   // its first checkpoint; the restart must cut the outputs back to it and go on.
