@@ -734,10 +734,8 @@ void Workbench::probe(const std::vector<std::string>& a) {
         if (p.t_measured >= 0) continue;
         const std::vector<Piece> pieces = bodyPieces(m, static_cast<int>(b));
         if (pieces.empty()) break;
-        double deepest = -1e300;
-        for (int n : pieces[0].nodes) deepest = std::max(deepest, (p.front - m.nodes.x[n]).dot(p.normal));
         std::printf("  piece's lead    %.3f mm before the measuring plane of '%s' (v_k not yet taken)\n",
-                    (p.measure_depth - deepest) * 1e3, p.name.c_str());
+                    (p.measure_depth - leadingDepth(m, p, pieces[0].nodes)) * 1e3, p.name.c_str());
         break;
       }
     }

@@ -11,14 +11,13 @@
 
 namespace fesph {
 
-namespace {
-
-// Largest depth behind the plate's front face over the given nodes (positive: behind).
 double leadingDepth(const Model& model, const PlateCrossing& p, const std::vector<int>& nodes) {
   double depth = -std::numeric_limits<double>::infinity();
   for (int a : nodes) depth = std::max(depth, -(model.nodes.x[a] - p.front).dot(p.normal));
   return depth;
 }
+
+namespace {
 
 // The same over the live (massive) nodes of `body`; -infinity when it has none.
 double bodyLeadingDepth(const Model& model, const PlateCrossing& p, int body) {

@@ -47,6 +47,10 @@ struct PlateCrossing {
   double through_mass_fraction = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Largest depth behind the front face of `p` over the given nodes (positive: behind), m;
+/// -infinity for no nodes.
+double leadingDepth(const Model& model, const PlateCrossing& p, const std::vector<int>& nodes);
+
 /// Mass (kg) and mass-weighted mean velocity (m/s) of the material of `body` (live nodes with
 /// mass, and particles of that body) lying deeper than `depth` behind the front face of `p`.
 struct MaterialPast {
