@@ -169,7 +169,7 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
       for (std::size_t i = 0; i < n_built; ++i)
         n_groups = std::max(n_groups, static_cast<std::size_t>(body[i]) + 1);
     std::vector<Vec3> shift(n_groups, Vec3::Zero());
-    std::vector<std::vector<double>> comp(n_groups);
+    comp.resize(n_groups);
     for (int a = 0; a < 3; ++a) {
       for (auto& v : comp) v.clear();
       for (std::size_t i = 0; i < n_built; ++i)
@@ -304,10 +304,12 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
   v.pairs_added += add.size();
 
   // Merge them into the rows, which stay ascending as a fresh build gives them.
-  std::vector<std::size_t> offset(n + 1, 0);
+  std::vector<std::size_t>& offset = v.merged.offset;
+  std::vector<int>& index = v.merged.index;
+  offset.assign(n + 1, 0);
   for (const auto& e : add) ++offset[static_cast<std::size_t>(e.first) + 1];
   for (std::size_t i = 0; i < n; ++i) offset[i + 1] += offset[i] + (c.offset[i + 1] - c.offset[i]);
-  std::vector<int> index(offset[n]);
+  index.resize(offset[n]);
   auto next = add.begin();
   for (std::size_t i = 0; i < n; ++i) {
     auto out = index.begin() + static_cast<std::ptrdiff_t>(offset[i]);
