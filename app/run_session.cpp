@@ -190,7 +190,11 @@ StopReason RunSession::advance(double until_time, long max_steps,
     }
     for (long done = 0;; ++done) {
       if (complete()) return StopReason::EndTime;
-      if (stop && stop->load()) return StopReason::Interrupted;
+      if (stop && stop->load()) {
+        // the crossings since the last output are in memory only: keep them with the checkpoint
+        crossings_->writeCsv(folder() + "/residual_velocities.csv");
+        return StopReason::Interrupted;
+      }
       if ((max_steps >= 0 && done >= max_steps) || model_.time >= until_time)
         return StopReason::Limit;
 

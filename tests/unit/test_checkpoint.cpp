@@ -303,6 +303,20 @@ TEST_CASE("fesph run --restart continues the series and histories, also after a 
   REQUIRE(stopped.step > 0);
   REQUIRE(stopped.time < 1.5e-6);
   REQUIRE(log.find("checkpoint written to " + cut_ckpts.back()) != std::string::npos);
+  // Plate contact (at ~0.14 us) comes before the first output after t = 0 (1 us): a stop in
+  // between must still leave the contact time in the table, not the table of t = 0.
+  const auto contactTime = [&](const fs::path& csv) {
+    const std::string text = slurp(csv);
+    const std::size_t row = text.find("\n1,plate,");
+    REQUIRE(row != std::string::npos);
+    const std::size_t at = row + 9;
+    return text.substr(at, text.find(',', at) - at);
+  };
+  const std::string t_contact = contactTime(whole / "residual_velocities.csv");
+  REQUIRE(!t_contact.empty());
+  INFO("stopped at " << stopped.time << " s, contact at " << t_contact << " s");
+  REQUIRE(stopped.time > std::stod(t_contact));
+  REQUIRE(contactTime(cut / "residual_velocities.csv") == t_contact);
   REQUIRE(shell(runCmd("--restart " + cut_ckpts.back(), dir.path / "rest.log")) == 0);
   requireSameOutputs(whole, cut);
 }
