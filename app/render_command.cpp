@@ -4,6 +4,7 @@
 
 #include "core/analysis/hole_metrics.hpp"
 #include "core/common/error.hpp"
+#include "render/debris_table.hpp"
 #include "render/plate_images.hpp"
 #include "render/section_view.hpp"
 #include "render/velocity_plot.hpp"
@@ -36,6 +37,9 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
                   .c_str());
   writeHolesCsv(out_dir + "/holes.csv", holes);
   writeHolesJson(out_dir + "/holes.json", holes);
+  const DebrisSummary debris = writeDebrisTable(run_dir, plates, out_dir);
+  std::printf("  debris: %s/debris.csv (%zu clumps of free particles, %zu would strike a plate)\n",
+              out_dir.c_str(), debris.clumps, debris.strikes);
 }
 
 int renderCommand(const RenderOptions& opt) {

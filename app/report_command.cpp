@@ -148,6 +148,43 @@ std::vector<std::string> plateImages(const ReportRun& r, const fs::path& out, in
   return copied;
 }
 
+// The heaviest clumps of free particles that would strike a plate (debris.csv, written with
+// the images; core/analysis/debris.hpp).
+void debrisSection(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
+  if (clumps.empty()) return;
+  constexpr std::size_t kShown = 10;
+  std::vector<const CsvRow*> striking;
+  for (const CsvRow& c : clumps)
+    if (!c.at("strikes").empty()) striking.push_back(&c);
+  std::stable_sort(striking.begin(), striking.end(), [](const CsvRow* a, const CsvRow* b) {
+    return std::stod(a->at("full_mass_kg")) > std::stod(b->at("full_mass_kg"));
+  });
+  md << "\nDebris at t = " << clumps.front().at("time_s") << " s: " << clumps.size()
+     << " clumps of two or more free particles (linked within 1.5 times the sum of their "
+        "radii), " << striking.size() << " of them on a straight course to a plate of another "
+        "body (debris.csv)";
+  if (striking.empty()) {
+    md << ".\n";
+    return;
+  }
+  md << "; the heaviest " << std::min(kShown, striking.size()) << " of those (mass in the full "
+     << "model: a clump on a half model's plane counts twice):\n\n"
+     << "| from | particles | mass (g) | speed (m/s) | damage | strikes | at (ms) | where x, y "
+        "(mm) | normal speed (m/s) |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < std::min(kShown, striking.size()); ++k) {
+    const CsvRow& c = *striking[k];
+    char line[512];
+    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.0f | %.2f | %s | %.2f | %.0f, %.0f | %.0f |\n",
+                  c.at("body").c_str(), c.at("particles").c_str(),
+                  1e3 * std::stod(c.at("full_mass_kg")), std::stod(c.at("speed_m_s")),
+                  std::stod(c.at("damage")), c.at("strikes").c_str(),
+                  1e3 * std::stod(c.at("strike_time_s")), 1e3 * std::stod(c.at("strike_x_m")),
+                  1e3 * std::stod(c.at("strike_y_m")),
+                  std::stod(c.at("strike_normal_speed_m_s")));
+    md << line;
+  }
+}
+
 void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   const Scene& first = runs.front().scene;
   const ReferenceData& ref = first.reference;
@@ -282,12 +319,11 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
     md << "\n### " << runs[i].label << "\n\n";
     for (const std::string& png : plateImages(runs[i], out, static_cast<int>(i + 1)))
       md << "![" << fs::path(png).stem().string() << "](" << png << ")\n";
-    const auto holes = readCsv(out / ("run" + std::to_string(i + 1)) / "holes.csv");
-    if (holes.empty()) {
-      md << "\nNo through-holes.\n";
-      continue;
-    }
-    md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) |\n|---|---|---|---|\n";
+    const fs::path copied = out / ("run" + std::to_string(i + 1));
+    const auto holes = readCsv(copied / "holes.csv");
+    if (holes.empty()) md << "\nNo through-holes.\n";
+    if (!holes.empty())
+      md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) |\n|---|---|---|---|\n";
     for (const CsvRow& h : holes) {
       char line[256];
       std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.2f |\n", h.at("plate").c_str(),
@@ -295,6 +331,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
                     1e3 * std::stod(h.at("diameter_m")));
       md << line;
     }
+    debrisSection(readCsv(copied / "debris.csv"), md);
   }
   std::ofstream(out / "report.md") << md.str();
 }

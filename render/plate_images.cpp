@@ -91,15 +91,18 @@ RunStep readRunStep(const std::string& run_dir, double time) {
   step.elements = reader->GetOutput();
 
   // Particles of the same output step: the .vtp nearest to the element step's time.
-  const std::string vtp = nearestFile(fs::path(run_dir) / "particles.pvd", step.time, nullptr);
-  if (!vtp.empty()) {
-    vtkNew<vtkXMLPolyDataReader> preader;
-    preader->SetFileName(vtp.c_str());
-    preader->Update();
-    if (preader->GetErrorCode() != 0) throw RunError("cannot read " + vtp);
-    step.particles = preader->GetOutput();
-  }
+  step.particles = readParticles(run_dir, step.time);
   return step;
+}
+
+vtkSmartPointer<vtkPolyData> readParticles(const std::string& run_dir, double time) {
+  const std::string vtp = nearestFile(fs::path(run_dir) / "particles.pvd", time, nullptr);
+  if (vtp.empty()) return nullptr;
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(vtp.c_str());
+  reader->Update();
+  if (reader->GetErrorCode() != 0) throw RunError("cannot read " + vtp);
+  return reader->GetOutput();
 }
 
 std::string timeLabel(double time) {
@@ -602,6 +605,9 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     images.time = step.time;
     images.pixel_size = pixel_size;
     images.holes = h;
+    images.centre = v.centre;
+    images.half_u = v.half_u;
+    images.half_v = v.half_v;
     for (int side = 0; side < 2; ++side) {
       const bool rear = side == 1;
       OffscreenWindow win(W, H);

@@ -1,21 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "core/analysis/fragments.hpp"
 
+#include "core/common/union_find.hpp"
+
 #include <algorithm>
 #include <limits>
-#include <numeric>
 
 namespace fesph {
-
-namespace {
-
-// Union-find over node ids with path halving.
-int findRoot(std::vector<int>& parent, int a) {
-  while (parent[a] != a) a = parent[a] = parent[parent[a]];
-  return a;
-}
-
-}  // namespace
 
 double bodyInitialMass(const Model& model, int body) {
   const Body& b = model.bodies[body];
@@ -29,21 +20,16 @@ std::vector<Piece> bodyPieces(const Model& model, int body) {
   const Body& b = model.bodies[body];
   const Elements& el = model.elems;
   const Nodes& nd = model.nodes;
-  std::vector<int> parent(nd.size());
-  std::iota(parent.begin(), parent.end(), 0);
+  UnionFind sets(nd.size());
   for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
     if (el.status[e] != ElemStatus::Live) continue;
-    const int r0 = findRoot(parent, el.conn[e][0]);
-    for (int k = 1; k < 4; ++k) {
-      const int r = findRoot(parent, el.conn[e][k]);
-      if (r != r0) parent[r] = r0;
-    }
+    for (int k = 1; k < 4; ++k) sets.join(el.conn[e][k], el.conn[e][0]);
   }
   std::vector<int> piece_of(nd.size(), -1);
   std::vector<Piece> pieces;
   for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
     if (!(nd.m[a] > 0)) continue;
-    const int r = findRoot(parent, static_cast<int>(a));
+    const int r = sets.find(static_cast<int>(a));
     if (piece_of[r] < 0) {
       piece_of[r] = static_cast<int>(pieces.size());
       pieces.emplace_back();

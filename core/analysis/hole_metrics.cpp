@@ -4,6 +4,7 @@
 #include "core/analysis/hole_metrics.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/union_find.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -13,7 +14,6 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <numeric>
 #include <utility>
 
 namespace fesph {
@@ -25,20 +25,15 @@ constexpr double kPi = 3.14159265358979323846;
 // Tets of the largest node-connected piece (union-find over the nodes of each tet).
 std::vector<std::size_t> largestPiece(std::size_t n_points,
                                       const std::vector<std::array<int, 4>>& tets) {
-  std::vector<int> parent(n_points);
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](int a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  };
+  UnionFind sets(n_points);
   for (const auto& t : tets)
-    for (int k = 1; k < 4; ++k) parent[find(t[k])] = find(t[0]);
+    for (int k = 1; k < 4; ++k) sets.join(t[k], t[0]);
   std::vector<std::size_t> count(n_points, 0);
-  for (const auto& t : tets) ++count[find(t[0])];
+  for (const auto& t : tets) ++count[sets.find(t[0])];
   const int root = static_cast<int>(std::max_element(count.begin(), count.end()) - count.begin());
   std::vector<std::size_t> kept;
   for (std::size_t e = 0; e < tets.size(); ++e)
-    if (find(tets[e][0]) == root) kept.push_back(e);
+    if (sets.find(tets[e][0]) == root) kept.push_back(e);
   return kept;
 }
 

@@ -143,3 +143,43 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // A folder that is not a run is bad input.
   CHECK(run("report " + tmp.path.string()) == 2);
 }
+
+TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]") {
+  // A small impact with conversion: its images include debris.csv, which the report copies and
+  // sums up. The table of striking clumps is then checked on a debris.csv with known rows
+  // (the heaviest striking clump first, masses in grams of the full model).
+  fesph::testing::TempFolder tmp("report_debris");
+  const fs::path dir = tmp.path / "impact";
+  REQUIRE(run("run " + std::string(FESPH_TEST_DATA_DIR) + "/restart_impact.toml --materials " +
+              std::string(FESPH_SCENES_DIR) + "/materials.toml --threads 1 --quiet --out " +
+              dir.string() + " --set simulation.end_time=1e-6") == 0);
+  REQUIRE(fs::exists(dir / "images" / "debris.csv"));
+  REQUIRE(run("report " + dir.string() + " --out " + (tmp.path / "rep").string()) == 0);
+  std::istringstream csv(read(tmp.path / "rep" / "run1" / "debris.csv"));
+  int clumps = -1;  // not the header
+  for (std::string l; std::getline(csv, l);) ++clumps;
+  REQUIRE(clumps > 0);
+  CHECK(read(tmp.path / "rep" / "report.md")
+            .find(": " + std::to_string(clumps) + " clumps of two or more free particles") !=
+        std::string::npos);
+
+  const std::string written = read(dir / "images" / "debris.csv");
+  const std::string header = written.substr(0, written.find('\n') + 1);
+  std::ofstream(dir / "images" / "debris.csv")
+      << header
+      << "1e-3,plate_1,1,40,0.002,0.002,300,0,0,-300,0,0,0.1,0.9,0.001,5,0,,,,,,,\n"
+         "1e-3,plate_1,2,20,0.001,0.002,400,0,0,-400,0.2,0,0.1,0.8,0.001,5,1,plate_2,2.5e-4,"
+         "1.25e-3,0.2,0,0,400\n"
+         "1e-3,plate_1,3,30,0.0015,0.0015,350,0,0,-350,0.3,0.1,0.1,0.7,0.001,5,0,plate_2,"
+         "2.8e-4,1.28e-3,0.3,0.1,0,350\n";
+  REQUIRE(run("report " + dir.string() + " --out " + (tmp.path / "rep2").string()) == 0);
+  const std::string md = read(tmp.path / "rep2" / "report.md");
+  INFO(md);
+  CHECK(md.find("3 clumps of two or more free particles (linked within 1.5 times the sum of "
+                "their radii), 2 of them on a straight course") != std::string::npos);
+  const std::size_t first = md.find("| plate_1 | 20 | 2.0 | 400 | 0.80 | plate_2 | 1.25 | 200, 0 | 400 |");
+  const std::size_t second = md.find("| plate_1 | 30 | 1.5 | 350 | 0.70 | plate_2 | 1.28 | 300, 100 | 350 |");
+  CHECK(first != std::string::npos);
+  CHECK(second != std::string::npos);
+  CHECK(first < second);
+}

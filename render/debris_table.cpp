@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#include "render/debris_table.hpp"
+
+#include "core/common/error.hpp"
+
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+
+namespace fesph {
+
+std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time) {
+  const vtkSmartPointer<vtkPolyData> pd = render_detail::readParticles(run_dir, time);
+  std::vector<DebrisParticle> debris;
+  if (!pd) return debris;
+  vtkPointData* data = pd->GetPointData();
+  const auto array = [&](const char* name, int components) {
+    vtkDataArray* a = data->GetArray(name);
+    if (!a || a->GetNumberOfComponents() != components)
+      throw RunError(run_dir + ": the particle series has no " + std::to_string(components) +
+                     "-component array \"" + name + "\"");
+    return a;
+  };
+  vtkDataArray* velocity = array("velocity", 3);
+  vtkDataArray* mass = array("mass", 1);
+  vtkDataArray* radius = array("radius", 1);
+  vtkDataArray* damage = array("damage", 1);
+  vtkDataArray* body = array("body", 1);
+  vtkDataArray* tied = array("tied", 1);
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i) {
+    if (tied->GetTuple1(i) != 0) continue;  // held by an element face: still part of a plate
+    DebrisParticle q;
+    pd->GetPoint(i, q.x.data());
+    velocity->GetTuple(i, q.v.data());
+    q.mass = mass->GetTuple1(i);
+    q.radius = radius->GetTuple1(i);
+    q.damage = damage->GetTuple1(i);
+    q.body = static_cast<int>(body->GetTuple1(i));
+    debris.push_back(q);
+  }
+  return debris;
+}
+
+std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images) {
+  std::vector<TargetPlate> plates;
+  for (const PlateImages& p : images) {
+    TargetPlate t;
+    t.name = p.plate;
+    t.body = p.body;
+    t.centre = p.centre;
+    t.normal = p.holes.normal;
+    t.u = p.holes.u;
+    t.v = p.holes.v;
+    // the centre lies on the mid-plane through holes.origin: the front's offset is the same
+    t.front = p.holes.front - (p.centre - p.holes.origin).dot(p.holes.normal);
+    t.half_u = p.half_u;
+    t.half_v = p.half_v;
+    plates.push_back(t);
+  }
+  return plates;
+}
+
+DebrisSummary writeDebrisTable(const std::string& run_dir, const std::vector<PlateImages>& images,
+                               const std::string& out_dir) {
+  const double time = images.empty() ? -1.0 : images.front().time;
+  const RunInfo info = readRunInfo(run_dir);
+  DebrisOptions options;
+  options.half = info.half;
+  const std::vector<Clump> clumps = findClumps(readDebris(run_dir, time), options);
+  const std::vector<TargetPlate> plates = targetPlates(images);
+  std::vector<std::string> names;
+  for (const RunBody& b : info.bodies) names.push_back(b.name);
+  writeDebrisCsv(out_dir + "/debris.csv", time, clumps, plates, names);
+  DebrisSummary s;
+  for (const Clump& c : clumps) {
+    if (c.particles < 2) continue;
+    ++s.clumps;
+    if (predictStrike(c, plates).plate >= 0) ++s.strikes;
+  }
+  return s;
+}
+
+}  // namespace fesph

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+// The debris of a run at one output, read back from its particle series: clumps of free
+// particles and the plates they would strike (core/analysis/debris.hpp), as debris.csv.
+#pragma once
+
+#include "core/analysis/debris.hpp"
+#include "render/plate_images.hpp"
+
+#include <string>
+#include <vector>
+
+namespace fesph {
+
+/// The free particles (not tied to an element face) of the series step nearest to `time`
+/// (< 0: the last). No particle series: none. Throws RunError (unreadable file, a particle
+/// array missing).
+std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time);
+
+/// The plates of `images` as targets (their front faces and extents at the images' time).
+std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images);
+
+struct DebrisSummary {
+  std::size_t clumps = 0;   ///< clumps of two particles or more
+  std::size_t strikes = 0;  ///< of them, those that would strike a plate
+};
+
+/// Writes OUT_DIR/debris.csv for the step the plate images show (writeDebrisCsv). Throws
+/// RunError.
+DebrisSummary writeDebrisTable(const std::string& run_dir, const std::vector<PlateImages>& images,
+                               const std::string& out_dir);
+
+}  // namespace fesph

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+// debris.csv of a run folder: the free particles of the particle series grouped into clumps,
+// with their straight-line strikes on the plates the images show (render/debris_table).
+#include "render/debris_table.hpp"
+#include "render/series_writer.hpp"
+
+#include "core/mesh/structured_box.hpp"
+#include "core/sph/particle_body.hpp"
+#include "tests/support/models.hpp"
+#include "tests/support/temp_folder.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+
+using namespace fesph;
+namespace fs = std::filesystem;
+
+TEST_CASE("debris table: a clump of free particles on course for a plate", "[unit][render]") {
+  // Reference: kinematics. A 2 x 2 x 2 lattice of 1 mm particles (centroid 10.5 mm above the
+  // plate's front face z = 0) falls at 200 m/s onto a 40 x 40 x 2 mm plate: one clump of 8,
+  // striking after 10.5 mm / 200 m/s = 52.5 us at (0.5, 0.5, 0) mm. A ninth particle beside
+  // it is tied to a face of the plate, so it is not debris.
+  constexpr double mm = 1e-3;
+  Model model;
+  model.materials.push_back(testing::elasticMaterial());
+  addBody(model, "plate",
+          structuredBox(Vec3(-20 * mm, -20 * mm, -2 * mm), Vec3(40 * mm, 40 * mm, 2 * mm), 8, 8, 1),
+          0, Placement{}, Vec3::Zero(), false);
+  finaliseModel(model);
+  std::vector<Vec3> x;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) x.push_back(mm * Vec3(i, j, 10 + k));
+  x.push_back(mm * Vec3(2, 0, 10));
+  addParticleBody(model, "shot", x, std::vector<double>(x.size(), mm * mm * mm), 0,
+                  Vec3(0, 0, -200), true);
+  model.particles.tie.back().face = {0, 1, 2};
+  testing::TempFolder dir("debris_table");
+  SeriesWriter(dir.path).write(model, 40e-6);
+  std::ofstream(dir.path / "scene.toml") << "[[bodies]]\nname = \"plate\"\n"
+                                            "[[bodies]]\nname = \"shot\"\nprojectile = true\n";
+
+  const std::vector<DebrisParticle> debris = readDebris(dir.path.string(), -1);
+  REQUIRE(debris.size() == 8);  // the tied one left out
+  ImageOptions options;
+  options.width = 320;
+  options.height = 240;
+  const std::vector<PlateImages> images =
+      renderPlateImages(dir.path.string(), -1, options, (dir.path / "images").string());
+  REQUIRE(images.size() == 1);
+  const std::vector<TargetPlate> plates = targetPlates(images);
+  REQUIRE(plates[0].body == 0);
+  CHECK(plates[0].half_u == Approx(20 * mm).epsilon(1e-9));
+
+  const DebrisSummary s = writeDebrisTable(dir.path.string(), images, (dir.path / "images").string());
+  CHECK(s.clumps == 1);
+  CHECK(s.strikes == 1);
+  std::ifstream in(dir.path / "images" / "debris.csv");
+  std::string header, row;
+  REQUIRE(std::getline(in, header));
+  REQUIRE(std::getline(in, row));
+  INFO(row);
+  const double m = model.particles.m[0];
+  char expected[160];
+  std::snprintf(expected, sizeof expected, "4e-05,shot,1,8,%.6g,%.6g,200,0,0,-200,0.0005,0.0005,0.0105,",
+                8 * m, 8 * m);
+  CHECK(row.rfind(expected, 0) == 0);
+  CHECK(row.find(",plate,5.25e-05,9.25e-05,0.0005,0.0005,") != std::string::npos);
+}
