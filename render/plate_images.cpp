@@ -528,8 +528,16 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     if (v.cells->GetNumberOfCells() == 0) continue;
     v.holes = holesOf(v.cells, v.name, info.half);
     const PlateHoles& h = v.holes;
+    // The extent of the plate's own nodes: the extracted cells share the points of every body.
+    std::vector<char> used(static_cast<std::size_t>(v.cells->GetNumberOfPoints()), 0);
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < v.cells->GetNumberOfCells(); ++c) {
+      v.cells->GetCellPoints(c, ids);
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) used[ids->GetId(k)] = 1;
+    }
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (vtkIdType i = 0; i < v.cells->GetNumberOfPoints(); ++i) {
+      if (!used[i]) continue;
       Vec3 p;
       v.cells->GetPoint(i, p.data());
       for (int m = 0; m < (info.half ? 2 : 1); ++m) {
