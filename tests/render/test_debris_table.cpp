@@ -28,6 +28,9 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
   addBody(model, "plate",
           structuredBox(Vec3(-20 * mm, -20 * mm, -2 * mm), Vec3(40 * mm, 40 * mm, 2 * mm), 8, 8, 1),
           0, Placement{}, Vec3::Zero(), false);
+  // An element body far off to the side: the plate's extent must not reach it.
+  addBody(model, "bullet", structuredBox(Vec3(100 * mm, 0, 5 * mm), Vec3(4 * mm, 4 * mm, 8 * mm), 1, 1, 2),
+          0, Placement{}, Vec3::Zero(), true);
   finaliseModel(model);
   std::vector<Vec3> x;
   for (int k = 0; k < 2; ++k)
@@ -40,6 +43,7 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
   testing::TempFolder dir("debris_table");
   SeriesWriter(dir.path).write(model, 40e-6);
   std::ofstream(dir.path / "scene.toml") << "[[bodies]]\nname = \"plate\"\n"
+                                            "[[bodies]]\nname = \"bullet\"\nprojectile = true\n"
                                             "[[bodies]]\nname = \"shot\"\nprojectile = true\n";
 
   const std::vector<DebrisParticle> debris = readDebris(dir.path.string(), -1);
@@ -53,6 +57,8 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
   const std::vector<TargetPlate> plates = targetPlates(images);
   REQUIRE(plates[0].body == 0);
   CHECK(plates[0].half_u == Approx(20 * mm).epsilon(1e-9));
+  CHECK(plates[0].half_v == Approx(20 * mm).epsilon(1e-9));
+  CHECK((plates[0].centre - Vec3(0, 0, -1 * mm)).norm() < 1e-9);  // on the mid-plane
 
   const DebrisSummary s = writeDebrisTable(dir.path.string(), images, (dir.path / "images").string());
   CHECK(s.clumps == 1);
