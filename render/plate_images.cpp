@@ -528,28 +528,10 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     if (v.cells->GetNumberOfCells() == 0) continue;
     v.holes = holesOf(v.cells, v.name, info.half);
     const PlateHoles& h = v.holes;
-    // The extent of the plate's own nodes: the extracted cells share the points of every body.
-    std::vector<char> used(static_cast<std::size_t>(v.cells->GetNumberOfPoints()), 0);
-    vtkNew<vtkIdList> ids;
-    for (vtkIdType c = 0; c < v.cells->GetNumberOfCells(); ++c) {
-      v.cells->GetCellPoints(c, ids);
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) used[ids->GetId(k)] = 1;
-    }
-    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-    for (vtkIdType i = 0; i < v.cells->GetNumberOfPoints(); ++i) {
-      if (!used[i]) continue;
-      Vec3 p;
-      v.cells->GetPoint(i, p.data());
-      for (int m = 0; m < (info.half ? 2 : 1); ++m) {
-        if (m == 1) p.y() = -p.y();
-        const double a = (p - h.origin).dot(h.u), c = (p - h.origin).dot(h.v);
-        lo[0] = std::min(lo[0], a), hi[0] = std::max(hi[0], a);
-        lo[1] = std::min(lo[1], c), hi[1] = std::max(hi[1], c);
-      }
-    }
-    v.centre = h.origin + 0.5 * (lo[0] + hi[0]) * h.u + 0.5 * (lo[1] + hi[1]) * h.v;
-    v.half_u = 0.5 * (hi[0] - lo[0]);
-    v.half_v = 0.5 * (hi[1] - lo[1]);
+    // The plate proper frames the view: loose pieces of the plate flying off do not.
+    v.centre = h.origin + 0.5 * (h.u_min + h.u_max) * h.u + 0.5 * (h.v_min + h.v_max) * h.v;
+    v.half_u = 0.5 * (h.u_max - h.u_min);
+    v.half_v = 0.5 * (h.v_max - h.v_min);
     views.push_back(std::move(v));
   }
   if (views.empty()) throw RunError(run_dir + ": no plate elements at t = " + std::to_string(step.time));

@@ -195,6 +195,7 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
     amin = std::min(amin, q.x()), amax = std::max(amax, q.x());
     bmin = std::min(bmin, q.y()), bmax = std::max(bmax, q.y());
   }
+  out.u_min = amin, out.u_max = amax, out.v_min = bmin, out.v_max = bmax;
   double h = o.cell_size > 0 ? o.cell_size : defaultCellSize(x, tets, kept);
   const double cells = (amax - amin) * (bmax - bmin) / (h * h);
   if (cells > static_cast<double>(o.max_cells)) h *= std::sqrt(cells / o.max_cells);

@@ -44,6 +44,9 @@ struct PlateHoles {
   Vec3 normal = Vec3::UnitZ();       ///< unit; points to the front (+z side unless given)
   Vec3 u = Vec3::UnitX(), v = Vec3::UnitY();  ///< in-plane axes; v is global y projected
   double front = 0, rear = 0;        ///< normal coordinates of the front and rear extremes, m
+  /// In-plane extent of the plate proper (its largest piece; mirrored for half models): u and
+  /// v coordinates from the origin, m. Loose pieces of the plate do not widen it.
+  double u_min = 0, u_max = 0, v_min = 0, v_max = 0;
   double cell_size = 0;              ///< raster cell edge used, m
   std::vector<Hole> holes;           ///< largest first
 };

@@ -118,6 +118,10 @@ TEST_CASE("hole metrics: half model, hole on the symmetry edge", "[unit][analysi
     CHECK(h.holes[0].area == Approx(p.true_area[0]).epsilon(0.02));
     CHECK(h.holes[0].on_symmetry);
     CHECK((h.holes[0].centroid - p.true_centroid[0]).norm() < 0.1e-3);
+    // The extent is the full plate's: 60 mm along x, 2 x 20 mm across the plane.
+    CHECK(std::abs(h.u.x()) == Approx(1.0));
+    CHECK(h.u_max - h.u_min == Approx(60e-3).epsilon(1e-9));
+    CHECK(h.v_max - h.v_min == Approx(40e-3).epsilon(1e-9));
   }
 }
 
@@ -143,6 +147,13 @@ TEST_CASE("hole metrics: no hole, and a loose plug does not close a hole", "[uni
     const PlateHoles h = findHoles(x, live);
     REQUIRE(h.holes.size() == 1);
     CHECK(h.holes[0].area == Approx(full.true_area[0]).epsilon(0.02));
+    // The plate's extent is the plate proper's (40 x 40 mm): the plug, flung 100 mm to the
+    // side, does not widen it.
+    for (Vec3& q : x)
+      if (std::hypot(q.x(), q.y()) < 4.9e-3) q.x() += 0.1;
+    const PlateHoles far = findHoles(x, live);
+    CHECK(far.u_max - far.u_min == Approx(40e-3).epsilon(1e-9));
+    CHECK(far.v_max - far.v_min == Approx(40e-3).epsilon(1e-9));
   }
 }
 
