@@ -18,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 namespace fesph {
 
@@ -150,7 +151,7 @@ std::vector<std::string> plateImages(const ReportRun& r, const fs::path& out, in
 
 // The heaviest clumps of free particles that would strike a plate (debris.csv, written with
 // the images; core/analysis/debris.hpp).
-void debrisSection(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
+void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
   if (clumps.empty()) return;
   constexpr std::size_t kShown = 10;
   std::vector<const CsvRow*> striking;
@@ -182,6 +183,14 @@ void debrisSection(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
                   1e3 * std::stod(c.at("strike_y_m")),
                   std::stod(c.at("strike_normal_speed_m_s")));
     md << line;
+  }
+}
+
+void debrisSection(const fs::path& csv, std::ostringstream& md) {
+  try {
+    debrisRows(readCsv(csv), md);
+  } catch (const std::exception& e) {  // a column missing (out_of_range) or not a number
+    throw RunError(csv.string() + ": not a debris table as fesph writes it (" + e.what() + ")");
   }
 }
 
@@ -321,8 +330,9 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
       md << "![" << fs::path(png).stem().string() << "](" << png << ")\n";
     const fs::path copied = out / ("run" + std::to_string(i + 1));
     const auto holes = readCsv(copied / "holes.csv");
-    if (holes.empty()) md << "\nNo through-holes.\n";
-    if (!holes.empty())
+    if (holes.empty())
+      md << "\nNo through-holes.\n";
+    else
       md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) |\n|---|---|---|---|\n";
     for (const CsvRow& h : holes) {
       char line[256];
@@ -331,7 +341,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
                     1e3 * std::stod(h.at("diameter_m")));
       md << line;
     }
-    debrisSection(readCsv(copied / "debris.csv"), md);
+    debrisSection(copied / "debris.csv", md);
   }
   std::ofstream(out / "report.md") << md.str();
 }

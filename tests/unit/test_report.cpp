@@ -182,4 +182,10 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
   CHECK(first != std::string::npos);
   CHECK(second != std::string::npos);
   CHECK(first < second);
+
+  // A table that is not fesph's (a hand-edited number) is an error naming it, not a crash.
+  std::ofstream(dir / "images" / "debris.csv")
+      << header << "1e-3,plate_1,1,20,0.001,0.002,fast,0,0,-400,0.2,0,0.1,0.8,0.001,5,1,plate_2,"
+                   "2.5e-4,1.25e-3,0.2,0,0,400\n";
+  CHECK(run("report " + dir.string() + " --out " + (tmp.path / "rep3").string()) == 1);
 }
