@@ -44,17 +44,17 @@ std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time) 
 std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images) {
   std::vector<TargetPlate> plates;
   for (const PlateImages& p : images) {
+    const PlateHoles& h = p.holes;  // its frame and the plate proper's extent
     TargetPlate t;
     t.name = p.plate;
     t.body = p.body;
-    t.centre = p.centre;
-    t.normal = p.holes.normal;
-    t.u = p.holes.u;
-    t.v = p.holes.v;
-    // the centre lies on the mid-plane through holes.origin: the front's offset is the same
-    t.front = p.holes.front - (p.centre - p.holes.origin).dot(p.holes.normal);
-    t.half_u = p.half_u;
-    t.half_v = p.half_v;
+    t.centre = h.origin + 0.5 * (h.u_min + h.u_max) * h.u + 0.5 * (h.v_min + h.v_max) * h.v;
+    t.normal = h.normal;
+    t.u = h.u;
+    t.v = h.v;
+    t.front = h.front - (t.centre - h.origin).dot(h.normal);  // u, v lie in the plane: ~front
+    t.half_u = 0.5 * (h.u_max - h.u_min);
+    t.half_v = 0.5 * (h.v_max - h.v_min);
     plates.push_back(t);
   }
   return plates;
@@ -70,14 +70,7 @@ DebrisSummary writeDebrisTable(const std::string& run_dir, const std::vector<Pla
   const std::vector<TargetPlate> plates = targetPlates(images);
   std::vector<std::string> names;
   for (const RunBody& b : info.bodies) names.push_back(b.name);
-  writeDebrisCsv(out_dir + "/debris.csv", time, clumps, plates, names);
-  DebrisSummary s;
-  for (const Clump& c : clumps) {
-    if (c.particles < 2) continue;
-    ++s.clumps;
-    if (predictStrike(c, plates).plate >= 0) ++s.strikes;
-  }
-  return s;
+  return writeDebrisCsv(out_dir + "/debris.csv", time, clumps, plates, names);
 }
 
 }  // namespace fesph

@@ -19,11 +19,6 @@ std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time);
 /// The plates of `images` as targets (their front faces and extents at the images' time).
 std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images);
 
-struct DebrisSummary {
-  std::size_t clumps = 0;   ///< clumps of two particles or more
-  std::size_t strikes = 0;  ///< of them, those that would strike a plate
-};
-
 /// Writes OUT_DIR/debris.csv for the step the plate images show (writeDebrisCsv). Throws
 /// RunError.
 DebrisSummary writeDebrisTable(const std::string& run_dir, const std::vector<PlateImages>& images,

@@ -595,9 +595,6 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     images.time = step.time;
     images.pixel_size = pixel_size;
     images.holes = h;
-    images.centre = v.centre;
-    images.half_u = v.half_u;
-    images.half_v = v.half_v;
     for (int side = 0; side < 2; ++side) {
       const bool rear = side == 1;
       OffscreenWindow win(W, H);

@@ -53,8 +53,6 @@ struct PlateImages {
   double time = 0;            ///< time of the series step drawn, s
   double pixel_size = 0;      ///< m per pixel in the plate's plane (the same for every plate)
   PlateHoles holes;           ///< through-holes of the plate at that time (full plate)
-  Vec3 centre = Vec3::Zero(); ///< middle of the (mirrored) plate's extent, on the mid-plane
-  double half_u = 0, half_v = 0;  ///< half extents along holes.u and holes.v, m
 };
 
 /// Front and rear orthographic views along the plate normal of every plate at the series step

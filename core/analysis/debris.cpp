@@ -114,7 +114,7 @@ Strike predictStrike(const Clump& clump, const std::vector<TargetPlate>& plates)
   return best;
 }
 
-void writeDebrisCsv(const std::string& path, double time, const std::vector<Clump>& clumps,
+DebrisSummary writeDebrisCsv(const std::string& path, double time, const std::vector<Clump>& clumps,
                     const std::vector<TargetPlate>& plates,
                     const std::vector<std::string>& body_names, std::size_t min_particles) {
   std::string text =
@@ -122,8 +122,10 @@ void writeDebrisCsv(const std::string& path, double time, const std::vector<Clum
       "z_m,damage,size_m,spread_m_s,on_symmetry,strikes,strike_after_s,strike_time_s,"
       "strike_x_m,strike_y_m,strike_z_m,strike_normal_speed_m_s\n";
   std::vector<int> rank(body_names.size() + 1, 0);
+  DebrisSummary summary;
   for (const Clump& c : clumps) {
     if (c.particles < min_particles) continue;
+    ++summary.clumps;
     const std::size_t b = c.body >= 0 && static_cast<std::size_t>(c.body) < body_names.size()
                               ? static_cast<std::size_t>(c.body)
                               : body_names.size();
@@ -137,15 +139,18 @@ void writeDebrisCsv(const std::string& path, double time, const std::vector<Clum
         c.centroid.z(), c.damage, c.size, c.spread, c.on_plane ? 1 : 0);
     w = std::clamp(w, 0, static_cast<int>(sizeof row) - 1);
     const Strike s = predictStrike(c, plates);
-    if (s.plate >= 0)
+    if (s.plate >= 0) {
+      ++summary.strikes;
       std::snprintf(row + w, sizeof row - static_cast<std::size_t>(w),
                     "%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", plates[s.plate].name.c_str(), s.after,
                     time + s.after, s.point.x(), s.point.y(), s.point.z(), s.normal_speed);
-    else
+    } else {
       std::snprintf(row + w, sizeof row - static_cast<std::size_t>(w), ",,,,,,\n");
+    }
     text += row;
   }
   replaceFile(path, text);
+  return summary;
 }
 
 }  // namespace fesph

@@ -72,11 +72,16 @@ struct Strike {
 /// passes beside are not struck.
 Strike predictStrike(const Clump& clump, const std::vector<TargetPlate>& plates);
 
+struct DebrisSummary {
+  std::size_t clumps = 0;   ///< rows written: clumps of at least `min_particles` particles
+  std::size_t strikes = 0;  ///< of them, those that would strike a plate
+};
+
 /// One row per clump of at least `min_particles` particles (largest first): body, clump,
 /// particles, mass and full mass, speed, velocity, centroid, damage, size, spread, on_plane,
 /// and the plate it would strike (name, flight time, time of arrival, point, normal speed;
 /// empty when none). `time` is the snapshot's, s. Throws RunError when it cannot write.
-void writeDebrisCsv(const std::string& path, double time, const std::vector<Clump>& clumps,
+DebrisSummary writeDebrisCsv(const std::string& path, double time, const std::vector<Clump>& clumps,
                     const std::vector<TargetPlate>& plates,
                     const std::vector<std::string>& body_names, std::size_t min_particles = 2);
 

@@ -155,7 +155,9 @@ TEST_CASE("debris: the CSV lists clumps of at least two particles with their str
   t.half_u = t.half_v = 1;
   testing::TempFolder dir("debris_csv");
   const std::string path = (dir.path / "debris.csv").string();
-  writeDebrisCsv(path, 1e-3, findClumps(p), {t}, {"plate_1", "plate_2"});
+  const DebrisSummary summary = writeDebrisCsv(path, 1e-3, findClumps(p), {t}, {"plate_1", "plate_2"});
+  CHECK(summary.clumps == 1);  // the single particle is not a row
+  CHECK(summary.strikes == 1);
   std::ifstream in(path);
   std::string header, row, extra;
   REQUIRE(std::getline(in, header));
