@@ -104,7 +104,7 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   w.thread_cells.resize(nthreads);
 #pragma omp parallel if (nfaces > 256)
   {
-    std::vector<std::pair<std::uint64_t, int>>& mine = w.thread_cells[threadId()];
+    std::vector<std::pair<std::uint64_t, int>>& mine = w.thread_cells[threadId()].items;
     mine.clear();
 #pragma omp for schedule(static)
     for (std::size_t f = 0; f < nfaces; ++f)
@@ -112,7 +112,7 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
                        [&](std::uint64_t h) { mine.emplace_back(h, static_cast<int>(f)); });
   }
   std::size_t inserts = 0;
-  for (int t = 0; t < nthreads; ++t) inserts += w.thread_cells[t].size();
+  for (int t = 0; t < nthreads; ++t) inserts += w.thread_cells[t].items.size();
   // About two entries per bucket: a collision only adds faces that the box test rejects, and
   // a sparser table cost more to clear and sum every step than the collisions (BM_ImpactStep
   // at 197k tets, 2 threads: 176 ns with 2 buckets per entry, 161 ns with 1/2).
@@ -121,21 +121,21 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   grid.mask = nbuckets - 1;
   w.bucket_offset.assign(nbuckets + 1, 0);
   for (int t = 0; t < nthreads; ++t)
-    for (const auto& [h, f] : w.thread_cells[t]) ++w.bucket_offset[grid.bucket(h) + 1];
+    for (const auto& [h, f] : w.thread_cells[t].items) ++w.bucket_offset[grid.bucket(h) + 1];
   for (std::size_t b = 0; b < nbuckets; ++b) w.bucket_offset[b + 1] += w.bucket_offset[b];
   w.bucket_faces.resize(inserts);
   w.bucket_fill.assign(w.bucket_offset.begin(), w.bucket_offset.end() - 1);
   for (int t = 0; t < nthreads; ++t)
-    for (const auto& [h, f] : w.thread_cells[t]) w.bucket_faces[w.bucket_fill[grid.bucket(h)]++] = f;
+    for (const auto& [h, f] : w.thread_cells[t].items) w.bucket_faces[w.bucket_fill[grid.bucket(h)]++] = f;
 
   // Query every slave in parallel into per-thread lists, then copy them out in slave order.
   w.thread_faces.resize(nthreads);
-  for (std::vector<int>& list : w.thread_faces) list.clear();
+  for (auto& list : w.thread_faces) list.items.clear();
   w.slave_thread.resize(nslaves);
   w.slave_start.resize(nslaves);
 #pragma omp parallel if (nslaves > 256)
   {
-    std::vector<int>& list = w.thread_faces[threadId()];
+    std::vector<int>& list = w.thread_faces[threadId()].items;
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < nslaves; ++i) {
       const int a = out.slaves[i];
@@ -163,7 +163,7 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   out.faces.resize(out.offset[nslaves]);
 #pragma omp parallel for schedule(static) if (nslaves > 256)
   for (std::size_t i = 0; i < nslaves; ++i) {
-    const std::vector<int>& list = w.thread_faces[w.slave_thread[i]];
+    const std::vector<int>& list = w.thread_faces[w.slave_thread[i]].items;
     std::copy(list.begin() + w.slave_start[i],
               list.begin() + w.slave_start[i] + (out.offset[i + 1] - out.offset[i]),
               out.faces.begin() + out.offset[i]);

@@ -3,6 +3,7 @@
 
 #include "core/conversion/face_geometry.hpp"
 #include "core/common/omp_threads.hpp"
+#include "core/common/thread_buffer.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -120,12 +121,12 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
     if (untied[p]) keys.push_back(cell_of[p]);
   const KeySet occupied(std::move(keys));
 
-  std::vector<std::vector<std::pair<int, int>>> parts;  // (rank of the cell's key, face)
+  std::vector<ThreadBuffer<std::vector<std::pair<int, int>>>> parts;  // (rank of the cell's key, face)
 #pragma omp parallel if (nf > kParallelMin)
   {
 #pragma omp single
     parts.resize(static_cast<std::size_t>(teamSize()));
-    std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(threadId())];
+    std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(threadId())].items;
 #pragma omp for schedule(static)
     for (long k = 0; k < nf; ++k) {
       Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -150,11 +151,11 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   // comes out in ascending face order, as a sort of (key, face) would give it.
   std::vector<std::size_t> fill(occupied.size() + 1, 0);
   for (const auto& part : parts)
-    for (const auto& e : part) ++fill[static_cast<std::size_t>(e.first) + 1];
+    for (const auto& e : part.items) ++fill[static_cast<std::size_t>(e.first) + 1];
   for (std::size_t c = 0; c < occupied.size(); ++c) fill[c + 1] += fill[c];
   g.entries.resize(fill.back());
   for (const auto& part : parts)
-    for (const auto& [rank, face] : part)
+    for (const auto& [rank, face] : part.items)
       g.entries[fill[static_cast<std::size_t>(rank)]++] = {occupied.key(static_cast<std::size_t>(rank)), face};
   // A box can enter the same key twice through a collision: keep each face once per key.
   g.entries.erase(std::unique(g.entries.begin(), g.entries.end()), g.entries.end());
@@ -288,13 +289,13 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // collects a contiguous block of particles, the blocks are joined in particle order.
   std::vector<std::size_t> offset(pa.size() + 1, 0);
   std::vector<Viable> viable;
-  std::vector<std::vector<Viable>> parts;
+  std::vector<ThreadBuffer<std::vector<Viable>>> parts;
 #pragma omp parallel if (np > kParallelMin)
   {
 #pragma omp single
     parts.resize(static_cast<std::size_t>(teamSize()));
     const long nt = teamSize(), t = threadId();
-    std::vector<Viable>& mine = parts[static_cast<std::size_t>(t)];
+    std::vector<Viable>& mine = parts[static_cast<std::size_t>(t)].items;
     for (long p = np * t / nt; p < np * (t + 1) / nt; ++p) {
       const std::size_t before = mine.size();
       if (!pa.tie[p].active())
@@ -304,7 +305,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   }
   for (std::size_t p = 0; p < pa.size(); ++p) offset[p + 1] += offset[p];
   viable.reserve(offset.back());
-  for (const auto& part : parts) viable.insert(viable.end(), part.begin(), part.end());
+  for (const auto& part : parts) viable.insert(viable.end(), part.items.begin(), part.items.end());
   std::vector<int> candidates;  // particles with viable faces, ascending
   for (std::size_t p = 0; p < pa.size(); ++p)
     if (offset[p + 1] > offset[p]) candidates.push_back(static_cast<int>(p));

@@ -19,7 +19,7 @@ constexpr std::size_t kReseatShare = 8;  // 1 in 8
 /// row lengths are known. The result is the same for any number of threads.
 /// collect(i, buf) appends row i (already in its final order) to buf.
 template <class Collect>
-void buildRows(std::size_t n, Collect&& collect, std::vector<std::vector<int>>& thread_buf,
+void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::vector<int>>>& thread_buf,
                std::vector<std::size_t>& count, NeighbourList& out) {
   thread_buf.resize(static_cast<std::size_t>(maxThreads()));
   count.assign(n, 0);
@@ -29,7 +29,7 @@ void buildRows(std::size_t n, Collect&& collect, std::vector<std::vector<int>>& 
     const std::size_t nt = static_cast<std::size_t>(teamSize());
     const std::size_t t = static_cast<std::size_t>(threadId());
     const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
-    std::vector<int>& buf = thread_buf[t];
+    std::vector<int>& buf = thread_buf[t].items;
     buf.clear();
     for (std::size_t i = begin; i < end; ++i) {
       const std::size_t before = buf.size();
@@ -50,7 +50,7 @@ void buildRows(std::size_t n, Collect&& collect, std::vector<std::vector<int>>& 
 /// the fresh searches (r = h for SPH pairs, the contact radii for contact pairs), so a Verlet
 /// list filtered here gives their lists bit for bit.
 void filterCandidates(const std::vector<Vec3>& x, const std::vector<double>& r,
-                      const NeighbourList& cand, std::vector<std::vector<int>>& thread_buf,
+                      const NeighbourList& cand, std::vector<ThreadBuffer<std::vector<int>>>& thread_buf,
                       std::vector<std::size_t>& count, NeighbourList& out) {
   buildRows(
       x.size(),

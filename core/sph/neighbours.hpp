@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/common/reflection.hpp"
+#include "core/common/thread_buffer.hpp"
 #include "core/common/types.hpp"
 
 #include <cstddef>
@@ -144,7 +145,7 @@ class NeighbourSearch {
   CellGrid mirror_grid_;                            ///< points near the symmetry planes
   std::vector<int> mirror_ids_;
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
-  std::vector<std::vector<int>> thread_index_;      ///< per-thread neighbour ids
+  std::vector<ThreadBuffer<std::vector<int>>> thread_index_;  ///< per-thread neighbour ids
   std::vector<std::size_t> count_;
   NeighbourList rows_;                              ///< contact pairs as rows
   Verlet sph_, contact_;

@@ -3,6 +3,7 @@
 // the contact search buffers reused every step. (Owned by the contact layer; see core/contact/.)
 #pragma once
 
+#include "core/common/thread_buffer.hpp"
 #include "core/common/types.hpp"
 
 #include <array>
@@ -44,8 +45,8 @@ struct ContactScratch {
   std::vector<std::size_t> bucket_offset;     ///< spatial hash buckets -> bucket_faces (CSR)
   std::vector<std::size_t> bucket_fill;       ///< fill cursor of each bucket
   std::vector<int> bucket_faces;
-  std::vector<std::vector<std::pair<std::uint64_t, int>>> thread_cells;  ///< (cell hash, face)
-  std::vector<std::vector<int>> thread_faces;  ///< per-thread candidate lists before merging
+  std::vector<ThreadBuffer<std::vector<std::pair<std::uint64_t, int>>>> thread_cells;  ///< (cell hash, face)
+  std::vector<ThreadBuffer<std::vector<int>>> thread_faces;  ///< per-thread candidate lists before merging
   std::vector<int> slave_thread;              ///< thread that searched for each slave
   std::vector<std::size_t> slave_start;       ///< where in that thread's list its candidates start
   std::vector<int> contact_face;              ///< face each slave of the current sub-pass hits
