@@ -31,7 +31,8 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 4: what of the projectile got through each plate (PlateCrossing::through_*).
 // 5: the symmetry planes.
 // 6: the particles' renumbering: SphControls::order_interval and Particles::id.
-constexpr std::int64_t kFormatVersion = 6;
+// 7: no pair_grad_prev (scratch of one step; older files hold it and the reader skips it).
+constexpr std::int64_t kFormatVersion = 7;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -86,7 +87,7 @@ FESPH_CHECKPOINT_FIELDS(Particles, 15 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
-                                          13 * kVec + 3 * kVec /* scratch */);
+                                          12 * kVec + 3 * kVec /* scratch */);
 FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
@@ -400,7 +401,6 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("neighbour_offset", ws.neighbours.offset);
   ar.array("neighbour_index", ws.neighbours.index);
   ar.array("pair_grad", ws.pair_grad);
-  ar.array("pair_grad_prev", ws.pair_grad_prev);
   ar.array("neighbour_last_offset", ws.neighbours_last.offset);
   ar.array("neighbour_last_index", ws.neighbours_last.index);
   ar.array("pair_grad_last", ws.pair_grad_last);

@@ -51,7 +51,7 @@ Footprint modelFootprint(const Model& m) {
   const SphWorkspace& ws = m.sph;
   f.particles = bytes(pa.x, pa.v, pa.f, pa.m, pa.V, pa.rho, pa.h, pa.d0, pa.dt, pa.state) +
                 bytes(pa.body, pa.material, pa.parent, pa.tie, pa.id, m.v_particle_free) +
-                bytes(ws.neighbours.offset, ws.neighbours.index, ws.pair_grad, ws.pair_grad_prev) +
+                bytes(ws.neighbours.offset, ws.neighbours.index, ws.pair_grad) +
                 bytes(ws.neighbours_last.offset, ws.neighbours_last.index, ws.pair_grad_last) +
                 bytes(ws.pair_stab, ws.pair_stab_last, ws.pair_last_slot) +
                 snapshotBytes(ws.current) + snapshotBytes(ws.previous) +

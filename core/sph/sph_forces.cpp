@@ -5,12 +5,14 @@
 // bodies. Formulation and choices: docs/sph.md.
 #include "core/sph/sph_forces.hpp"
 
+#include "core/common/error.hpp"
 #include "core/sph/kernel.hpp"
 #include "core/sph/sph_workspace.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace fesph {
 
@@ -47,6 +49,11 @@ Mat3 artificialStress(const Mat3& sigma, double epsilon) {
   if (r.isZero()) return Mat3::Zero();
   const Mat3& Q = es.eigenvectors();
   return Q * r.asDiagonal() * Q.transpose();
+}
+
+/// grad_i W_ij in the last step's configuration, for a pair the last step's list lacks.
+Vec3 previousGradient(const SphSnapshot& prev, std::size_t i, std::size_t j) {
+  return kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
 }
 
 double powInt(double x, int n) {
@@ -137,11 +144,8 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
     if (j >= np) continue;
     while (kl < kl_end && static_cast<std::size_t>(last.index[kl]) < j) ++kl;
     const bool in_last = kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j;
-    if (in_last) ws.pair_last_slot[k] = kl;
-    const Vec3 g = in_last
-                       ? ws.pair_grad_last[kl]
-                       : kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
-    ws.pair_grad_prev[k] = g;
+    if (in_last) ws.pair_last_slot[k] = static_cast<std::uint32_t>(kl);
+    const Vec3 g = in_last ? ws.pair_grad_last[kl] : previousGradient(prev, i, j);
     Gp.noalias() += (prev.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
   }
   for (MirrorImage& mi : ws.mirrors) {  // few pairs: computed again, not looked up
@@ -282,11 +286,11 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
     Vec3 f_stab_sum = f_stab;
     if (i < np && j < np) {
       // the last step computed this pair's force in the previous configuration already
-      const std::size_t kl = ws.pair_last_slot[k];
+      const std::uint32_t kl = ws.pair_last_slot[k];
       f_stab_sum += kl != SphWorkspace::kNoLastPair
                         ? ws.pair_stab_last[kl]
                         : stabilisationForce(prev, pa, i, j, prev.x[j], prev.v[j], prev.R[j],
-                                             ws.pair_grad_prev[k], ctl, mu);
+                                             previousGradient(prev, i, j), ctl, mu);
     } else {
       f_stab_sum += f_stab;
     }
@@ -364,8 +368,10 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   std::swap(ws.pair_stab, ws.pair_stab_last);
   resizeWorkspace(ws, n);
   ws.search.sphNeighboursVerlet(pa.x, pa.h, pa.body, ws.controls.verlet_skin, ws.neighbours);
+  if (ws.neighbours.pairs() >= SphWorkspace::kNoLastPair)  // hundreds of GB of pair arrays
+    throw RunError("SPH neighbour list of " + std::to_string(ws.neighbours.pairs()) +
+                   " pairs at t = " + seconds(model.time) + ": more than the 2^32 - 1 it can index");
   ws.pair_grad.resize(ws.neighbours.pairs());
-  ws.pair_grad_prev.resize(ws.neighbours.pairs());
   ws.pair_stab.resize(ws.neighbours.pairs());
   ws.pair_last_slot.resize(ws.neighbours.pairs());
   prepareMirrors(model, ws);

@@ -73,17 +73,18 @@ struct SphWorkspace {
   NeighbourSearch search;
   NeighbourList neighbours;
   std::vector<Vec3> pair_grad;          ///< grad_i W(x_i - x_j, h_ij) per neighbour entry, 1/m^4
-  std::vector<Vec3> pair_grad_prev;     ///< the same in the last step's configuration
-  /// The last step's neighbours and pair_grad: its gradients are this step's pair_grad_prev
-  /// (the same configuration, the same bits), looked up instead of computed again.
+  /// The last step's neighbours and pair_grad: its gradients are this step's gradients in the
+  /// previous configuration (the same configuration, the same bits), looked up instead of
+  /// computed again.
   NeighbourList neighbours_last;
   std::vector<Vec3> pair_grad_last;
   /// Stabilisation force of each pair (this step's and the last step's lists): the last
   /// step's value is this step's previous-configuration term, the same bits, not recomputed.
   std::vector<Vec3> pair_stab, pair_stab_last;
-  /// Entry of each pair in the last step's list, or kNoLastPair.
-  std::vector<std::size_t> pair_last_slot;
-  static constexpr std::size_t kNoLastPair = static_cast<std::size_t>(-1);
+  /// Entry of each pair in the last step's list, or kNoLastPair. 32 bits: the pair arrays are
+  /// streamed twice a step, and their bytes, not the arithmetic, set the step's cost.
+  std::vector<std::uint32_t> pair_last_slot;
+  static constexpr std::uint32_t kNoLastPair = static_cast<std::uint32_t>(-1);
   SphSnapshot current, previous;
   std::vector<std::uint8_t> corrected;  ///< 1: B_i = A_i^-1; 0: normalised plain gradient
   std::vector<Mat3> velocity_grad;      ///< L_i at this step's positions, 1/s
