@@ -15,12 +15,16 @@
 //   BM_ImpactStep    full step of a projectile in a plate (~190k tets at the middle size),
 //                    contact and erosion (mode 1) or FE -> SPH conversion (mode 2)
 //   BM_FourPlates    full step of scenes/four_plates_normal (quick, default and fine resolutions)
+// The full-step cases (BM_ImpactStep, BM_FourPlates) also report the run's figures of merit over
+// the timed steps: element_phase_ns, particle_phase_ns and the conversion, contact and coupling
+// phases' shares of the step (%).
 #include "core/contact/node_face_contact.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/material/library.hpp"
 #include "core/mesh/structured_box.hpp"
 #include "core/scene/scene.hpp"
 #include "core/solver/figures_of_merit.hpp"
+#include "core/solver/phase_timers.hpp"
 #include "core/solver/step.hpp"
 #include "core/state/model_build.hpp"
 #include "core/sph/particle_body.hpp"
@@ -31,6 +35,7 @@
 
 #include <algorithm>
 #include <random>
+#include <string>
 #include <vector>
 
 using namespace fesph;
@@ -54,6 +59,23 @@ void countItems(benchmark::State& state, const char* name, double items) {
   state.counters["items_per_s"] = benchmark::Counter(done, benchmark::Counter::kIsRate);
   state.counters["s_per_item"] = benchmark::Counter(
       done, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+/// The run's own figures of merit over the timed steps (reset the Model's timing before
+/// them): ns per element-step in the element phase, per particle-step in the particle phase,
+/// and each other phase's share of the step (%), so that a full-step case says where its time
+/// went.
+void countPhases(benchmark::State& state, const Model& m) {
+  const PhaseTimes& t = m.timing;
+  const auto seconds = [&](Phase p) { return t.seconds[static_cast<int>(p)]; };
+  if (t.element_steps > 0)
+    state.counters["element_phase_ns"] = 1e9 * seconds(Phase::Elements) / t.element_steps;
+  if (t.particle_steps > 0)
+    state.counters["particle_phase_ns"] = 1e9 * seconds(Phase::Particles) / t.particle_steps;
+  const double total = t.total();
+  if (total > 0)
+    for (Phase p : {Phase::Conversion, Phase::Contact, Phase::Coupling})
+      state.counters[std::string(phaseName(p)) + "_pct"] = 100 * seconds(p) / total;
 }
 
 /// Model arrays per element (B), for the <= 1 kB per element target.
@@ -229,10 +251,12 @@ void BM_ImpactStep(benchmark::State& state) {
   Model m = impact(static_cast<int>(state.range(0)), mode);
   // 1.5 us into the impact: plastic flow, contact, conversions under way
   while (m.time < 1.5e-6) step(m, 1.0);
+  m.timing = PhaseTimes{};
   for (auto _ : state) step(m, 1.0);
   countItems(state, "elements", static_cast<double>(m.elems.size()));
   state.counters["particles"] = static_cast<double>(m.particles.size());
   countMemory(state, m);
+  countPhases(state, m);
 }
 
 // The four-plate scene meshed at a resolution preset, early in the impact on plate 1.
@@ -245,10 +269,12 @@ void BM_FourPlates(benchmark::State& state) {
                 {std::string("resolution=\"") + preset + "\""});
   Model m = buildModel(scene);
   while (m.time < 2e-6) step(m, 1.0);  // the nose (1 mm out at 1300 m/s) 1.2 us into plate 1
+  m.timing = PhaseTimes{};
   for (auto _ : state) step(m, 1.0);
   countItems(state, "elements", static_cast<double>(m.elems.size()));
   state.counters["particles"] = static_cast<double>(m.particles.size());
   countMemory(state, m);
+  countPhases(state, m);
 }
 
 }  // namespace
