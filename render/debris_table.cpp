@@ -48,13 +48,13 @@ std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images) {
     TargetPlate t;
     t.name = p.plate;
     t.body = p.body;
-    t.centre = h.origin + 0.5 * (h.u_min + h.u_max) * h.u + 0.5 * (h.v_min + h.v_max) * h.v;
+    t.centre = h.extentCentre();
     t.normal = h.normal;
     t.u = h.u;
     t.v = h.v;
     t.front = h.front - (t.centre - h.origin).dot(h.normal);  // u, v lie in the plane: ~front
-    t.half_u = 0.5 * (h.u_max - h.u_min);
-    t.half_v = 0.5 * (h.v_max - h.v_min);
+    t.half_u = h.halfU();
+    t.half_v = h.halfV();
     plates.push_back(t);
   }
   return plates;

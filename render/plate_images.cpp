@@ -438,9 +438,7 @@ struct PlateView {
   int body;
   std::string name;
   vtkSmartPointer<vtkUnstructuredGrid> cells;
-  PlateHoles holes;  ///< also the plate's frame
-  Vec3 centre;       ///< middle of the (mirrored) plate's extent, on the mid-plane
-  double half_u = 0, half_v = 0;
+  PlateHoles holes;  ///< also the plate's frame and extent
 };
 
 std::string holeSummary(const PlateHoles& h) {
@@ -527,11 +525,6 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     v.cells = extractBody(grid, b);
     if (v.cells->GetNumberOfCells() == 0) continue;
     v.holes = holesOf(v.cells, v.name, info.half);
-    const PlateHoles& h = v.holes;
-    // The plate proper frames the view: loose pieces of the plate flying off do not.
-    v.centre = h.origin + 0.5 * (h.u_min + h.u_max) * h.u + 0.5 * (h.v_min + h.v_max) * h.v;
-    v.half_u = 0.5 * (h.u_max - h.u_min);
-    v.half_v = 0.5 * (h.v_max - h.v_min);
     views.push_back(std::move(v));
   }
   if (views.empty()) throw RunError(run_dir + ": no plate elements at t = " + std::to_string(step.time));
@@ -540,9 +533,10 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
   const int W = options.width, H = options.height;
   const double vp_w = (kSceneViewport[2] - kSceneViewport[0]) * W;
   const double vp_h = (kSceneViewport[3] - kSceneViewport[1]) * H;
+  // The plate proper's extent frames the views: loose pieces flying off do not widen them.
   double scale = 0;
   for (const PlateView& v : views)
-    scale = std::max({scale, v.half_v, v.half_u * vp_h / vp_w});
+    scale = std::max({scale, v.holes.halfV(), v.holes.halfU() * vp_h / vp_w});
   scale *= 1.04;
   const double pixel_size = 2 * scale / vp_h;
 
@@ -616,8 +610,9 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
       vtkCamera* cam = page.scene->GetActiveCamera();
       cam->ParallelProjectionOn();
       const double far = 10 * (scale + (h.front - h.rear));
-      const Vec3 eye = v.centre + (rear ? -far : far) * h.normal;
-      cam->SetFocalPoint(v.centre.x(), v.centre.y(), v.centre.z());
+      const Vec3 centre = h.extentCentre();
+      const Vec3 eye = centre + (rear ? -far : far) * h.normal;
+      cam->SetFocalPoint(centre.x(), centre.y(), centre.z());
       cam->SetPosition(eye.x(), eye.y(), eye.z());
       cam->SetViewUp(h.v.x(), h.v.y(), h.v.z());
       cam->SetParallelScale(scale);

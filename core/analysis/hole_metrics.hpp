@@ -49,6 +49,13 @@ struct PlateHoles {
   double u_min = 0, u_max = 0, v_min = 0, v_max = 0;
   double cell_size = 0;              ///< raster cell edge used, m
   std::vector<Hole> holes;           ///< largest first
+
+  /// Middle of the plate proper's extent, on the plane through `origin`, m.
+  Vec3 extentCentre() const {
+    return origin + 0.5 * (u_min + u_max) * u + 0.5 * (v_min + v_max) * v;
+  }
+  double halfU() const { return 0.5 * (u_max - u_min); }  ///< half the extent along u, m
+  double halfV() const { return 0.5 * (v_max - v_min); }  ///< half the extent along v, m
 };
 
 /// Holes of the plate made of the tetrahedra `tets` over the points `x` (every tet counts as
