@@ -10,10 +10,11 @@
 
 namespace fesph {
 
-/// N sums over i in [0, n): term(i, s) adds the terms of index i into s[0..N). Blocks of a
-/// fixed size are summed in parallel, each in index order, then the block sums in block order.
-template <std::size_t N, class Term>
-std::array<double, N> orderedSums(std::size_t n, Term&& term) {
+/// N sums over i in [0, n) taken a block at a time: block(begin, end, s) adds the terms of
+/// indices [begin, end) into s[0..N), in index order. Blocks of a fixed size are summed in
+/// parallel, each alone, then the block sums in block order.
+template <std::size_t N, class Block>
+std::array<double, N> orderedBlockSums(std::size_t n, Block&& block) {
   constexpr std::size_t kBlock = 1024;
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::array<double, N>> partial(blocks);
@@ -22,14 +23,21 @@ std::array<double, N> orderedSums(std::size_t n, Term&& term) {
 #pragma omp parallel for schedule(dynamic, 1) if (blocks > 1)
   for (std::size_t b = 0; b < blocks; ++b) {
     std::array<double, N> s{};
-    const std::size_t end = std::min(n, (b + 1) * kBlock);
-    for (std::size_t i = b * kBlock; i < end; ++i) term(i, s);
+    block(b * kBlock, std::min(n, (b + 1) * kBlock), s);
     partial[b] = s;
   }
   std::array<double, N> total{};
   for (const std::array<double, N>& s : partial)
     for (std::size_t k = 0; k < N; ++k) total[k] += s[k];
   return total;
+}
+
+/// N sums over i in [0, n): term(i, s) adds the terms of index i into s[0..N).
+template <std::size_t N, class Term>
+std::array<double, N> orderedSums(std::size_t n, Term&& term) {
+  return orderedBlockSums<N>(n, [&](std::size_t begin, std::size_t end, std::array<double, N>& s) {
+    for (std::size_t i = begin; i < end; ++i) term(i, s);
+  });
 }
 
 }  // namespace fesph

@@ -31,10 +31,35 @@ struct Corners {
                  " (no conversion or erosion mode to catch it)");
 }
 
-// Pass A: strain rate at the midpoint configuration of the last interval, deviatoric update,
-// new volume. Returns the plastic work of the element over the interval (J), or NaN when the
-// element has inverted (its state is left as it was).
-double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
+/// What pass A keeps of a yielding element until its radial return is done: the trapezoidal
+/// deviatoric power needs the stress before and after it.
+struct YieldingElement {
+  std::size_t e;
+  Sym s_old, D;
+  double volume;  ///< at the midpoint configuration, m^3
+};
+
+/// Pass A's scratch for one block of elements: the yielding ones and their returns.
+struct PassAScratch {
+  std::vector<YieldingElement> elems;
+  std::vector<PendingReturn> returns;
+};
+
+// The trapezoidal deviatoric power over the interval into the element's energy, once its
+// deviatoric stress is final.
+void finishDeviatoricWork(Model& model, const YieldingElement& y, double dt) {
+  Elements& el = model.elems;
+  PointState& st = el.state[y.e];
+  const double dev_work = 0.5 * (y.s_old + st.s).dot(y.D) * y.volume * dt;
+  const double mass = model.materials[el.material[y.e]].rho0 * el.V0[y.e];
+  st.e += dev_work / mass;
+}
+
+// Pass A up to the return: strain rate at the midpoint configuration of the last interval,
+// deviatoric trial, new volume. An element that yields is appended to `yielding`, the rest
+// is done (its plastic work is 0). Returns false when the element has inverted (its state is
+// left as it was).
+bool updateKinematicsAndTrial(Model& model, std::size_t e, double dt, PassAScratch& yielding) {
   Elements& el = model.elems;
   const Nodes& nd = model.nodes;
   const Material& mat = model.materials[el.material[e]];
@@ -46,7 +71,7 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   const TetGeometry gm = tetGeometry(x[0] - half_dt * v[0], x[1] - half_dt * v[1],
                                      x[2] - half_dt * v[2], x[3] - half_dt * v[3]);
   const double vol = tetVolume(x[0], x[1], x[2], x[3]);  // same bits as tetGeometry's
-  if (!(vol > 0) || !(gm.volume > 0)) return std::numeric_limits<double>::quiet_NaN();
+  if (!(vol > 0) || !(gm.volume > 0)) return false;
 
   Mat3 L = Mat3::Zero();  // velocityGradient (tet4.hpp) on the nodes in place
   for (int a = 0; a < 4; ++a) L.noalias() += v[a] * gm.grad[a].transpose();
@@ -54,12 +79,15 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   const Mat3 W = 0.5 * (L - L.transpose());
   PointState& st = el.state[e];
   const Sym s_old = st.s;
-  const double wp = updateDeviatoricStress(mat, D, W, dt, el.rho[e], st);
-  // trapezoidal deviatoric power over the interval
-  const double dev_work = 0.5 * (s_old + st.s).dot(D) * gm.volume * dt;
+  PendingReturn r;
+  if (trialDeviatoricStress(mat, D, W, dt, el.rho[e], st, r)) {
+    yielding.elems.push_back({e, s_old, D, gm.volume});
+    yielding.returns.push_back(r);
+  } else {
+    finishDeviatoricWork(model, {e, s_old, D, gm.volume}, dt);
+  }
 
   const double mass = mat.rho0 * el.V0[e];
-  st.e += dev_work / mass;
   el.dV[e] = vol - el.V[e];
   el.V[e] = vol;
   el.rho[e] = mass / vol;
@@ -67,7 +95,7 @@ double updateKinematicsAndDeviator(Model& model, std::size_t e, double dt) {
   el.div_v[e] = D.trace();
   el.len[e] = smallestAltitude(x[0], x[1], x[2], x[3], vol);
   if (el.len0[e] == 0) el.len0[e] = el.len[e];
-  return wp * gm.volume;
+  return true;
 }
 
 // Bulk viscosity (compression only) and the stable step l / (Q + sqrt(Q^2 + c^2)). The
@@ -141,15 +169,25 @@ void computeElementForces(Model& model, double dt_last) {
   const std::size_t ne = el.size();
 
   // Energy sums in a fixed order (ordered_sum.hpp): the same bits for any thread count.
-  const std::array<double, 2> a_sums =
-      orderedSums<2>(ne, [&](std::size_t e, std::array<double, 2>& sum) {
-        if (el.status[e] != ElemStatus::Live) return;
-        const double wp = updateKinematicsAndDeviator(model, e, dt_last);
-        if (std::isnan(wp)) {
-          el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
-          sum[1] += 1;
-        } else {
-          sum[0] += wp;
+  // Pass A block by block: kinematics and trial stress of every element, then the radial
+  // returns of the block's yielding ones side by side (completeReturns), then their energy.
+  const std::array<double, 2> a_sums = orderedBlockSums<2>(
+      ne, [&](std::size_t begin, std::size_t end, std::array<double, 2>& sum) {
+        thread_local PassAScratch yielding;
+        yielding.elems.clear();
+        yielding.returns.clear();
+        for (std::size_t e = begin; e < end; ++e) {
+          if (el.status[e] != ElemStatus::Live) continue;
+          if (!updateKinematicsAndTrial(model, e, dt_last, yielding)) {
+            el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
+            sum[1] += 1;
+          }
+        }
+        completeReturns(yielding.returns.data(), yielding.returns.size());
+        // The plastic work in element order (the others' is 0: adding it changes no bit).
+        for (std::size_t k = 0; k < yielding.elems.size(); ++k) {
+          finishDeviatoricWork(model, yielding.elems[k], dt_last);
+          sum[0] += yielding.returns[k].work * yielding.elems[k].volume;
         }
       });
   const double plastic_sum = a_sums[0];

@@ -4,8 +4,10 @@
 #include "core/material/material.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace fesph {
 
@@ -93,32 +95,72 @@ double flowStressAfter(const Material& mat, double eps_p, double dlam, double dt
 /// g(hi) <= 0 for hi = (sigma_eq_tr - sigma_y(eps_p, 0))/(3G), so Newton is run inside the
 /// bracket [0, hi] and falls back to bisection when its step leaves the bracket, e.g. at the
 /// infinite slope of n < 1 hardening at eps_p = 0 or of the rate term at the reference rate.
-/// Newton starts from `guess`, the point's last plastic increment (its plastic rate times dt),
-/// when that lies inside the bracket, else from hi: in steady flow the guess is nearly the
-/// root (BM_ElementKernel: 2.2 evaluations per return against 4.0 from hi). `sigma_y0` is the
-/// quasi-static flow stress sigma_y(eps_p, 0). `sigma_y` receives the flow stress at the root.
-double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, double dt,
-                    double thermal, double sigma_y0, double guess, double& sigma_y) {
-  const double G3 = 3.0 * mat.G;
-  double lo = 0.0;
-  double hi = (sigma_eq_tr - sigma_y0) / G3;
-  double x = (guess > 0.0 && guess < hi) ? guess : hi;
-  for (int it = 0; it < 200; ++it) {
-    double slope = 0;
-    const double sy = flowStressAfter(mat, eps_p, x, dt, thermal, &slope);
-    const double g = sigma_eq_tr - G3 * x - sy;
-    // 1e-10 sigma_y is 100x inside the 1e-8 promised; the second term is round-off in g.
-    if (std::abs(g) <= 1e-10 * sy + 1e-14 * sigma_eq_tr) {
-      sigma_y = sy;
-      return x;
-    }
-    (g > 0.0 ? lo : hi) = x;
-    const double xn = x + g / (G3 + slope);
-    x = (xn > lo && xn < hi) ? xn : 0.5 * (lo + hi);
-    if (hi - lo <= 4e-16 * hi) break;  // bracket at round-off: x is the root
+/// Newton starts from the point's last plastic increment (its plastic rate times dt) when that
+/// lies inside the bracket, else from hi: in steady flow the guess is nearly the root
+/// (BM_ElementKernel: 2.2 evaluations per return against 4.0 from hi).
+/// One object per point, advanced one iteration at a time (`iterate`), so that several
+/// points' iterations can be interleaved (completeReturns).
+class RadialReturn {
+ public:
+  explicit RadialReturn(const PendingReturn& r)
+      : r_(r), G3_(3.0 * r.mat->G), hi_((r.sigma_eq_tr - r.sigma_y0) / G3_) {
+    x_ = (r.guess > 0.0 && r.guess < hi_) ? r.guess : hi_;
   }
-  sigma_y = flowStressAfter(mat, eps_p, x, dt, thermal);
-  return x;
+  bool done() const { return done_; }
+  double dlam() const { return x_; }
+  double sigmaY() const { return sigma_y_; }  ///< the flow stress at dlam
+
+  /// One Newton (or bisection) iteration; done() once converged or after 200 iterations.
+  void iterate() {
+    const Material& mat = *r_.mat;
+    const PointState& st = *r_.st;
+    double slope = 0;
+    const double sy = flowStressAfter(mat, st.eps_p, x_, r_.dt, r_.thermal, &slope);
+    const double g = r_.sigma_eq_tr - G3_ * x_ - sy;
+    // 1e-10 sigma_y is 100x inside the 1e-8 promised; the second term is round-off in g.
+    if (std::abs(g) <= 1e-10 * sy + 1e-14 * r_.sigma_eq_tr) return finish(sy);
+    (g > 0.0 ? lo_ : hi_) = x_;
+    const double xn = x_ + g / (G3_ + slope);
+    x_ = (xn > lo_ && xn < hi_) ? xn : 0.5 * (lo_ + hi_);
+    // bracket at round-off: x is the root
+    if (hi_ - lo_ <= 4e-16 * hi_ || ++iterations_ == 200)
+      finish(flowStressAfter(mat, st.eps_p, x_, r_.dt, r_.thermal));
+  }
+
+ private:
+  void finish(double sigma_y) {
+    sigma_y_ = sigma_y;
+    done_ = true;
+  }
+
+  const PendingReturn& r_;
+  double G3_, lo_ = 0.0, hi_, x_;
+  double sigma_y_ = 0;
+  int iterations_ = 0;
+  bool done_ = false;
+};
+
+/// After the return: the stress scaled back to the surface, the plastic strain and rate,
+/// adiabatic heating and damage (using the pressure in st.p). Sets r.work.
+void applyReturn(PendingReturn& r, double dlam, double sigma_y) {
+  const Material& mat = *r.mat;
+  PointState& st = *r.st;
+  const double dt = r.dt;
+  const double rate = dt > 0.0 ? dlam / dt : 0.0;
+  st.s = st.s * (1.0 - 3.0 * mat.G * dlam / r.sigma_eq_tr);
+  const double T0 = st.T;
+  st.eps_p += dlam;
+  if (dt > 0.0) st.eps_rate = dlam / dt;
+
+  r.work = sigma_y * dlam;
+  if (mat.cp > 0.0) st.T += mat.taylor_quinney * r.work / (r.rho * mat.cp);
+
+  if (mat.damage) {
+    // sigma_eq = sigma_y after the return; a melted point (sigma_y = 0) counts as sigma* = 0.
+    const double triaxiality = sigma_y > 0.0 ? -st.p / sigma_y : 0.0;
+    st.damage = std::min(1.0, st.damage + dlam / failureStrain(mat, triaxiality, rate, T0));
+    if (st.damage >= 1.0) st.s = Sym{};
+  }
 }
 
 }  // namespace
@@ -132,44 +174,56 @@ double radialReturn(const Material& mat, double sigma_eq_tr, double eps_p, doubl
 /// temperature at the start of the step. A point that does not yield sees the quasi-static
 /// surface. Heating dT = chi sigma_y dlam / (rho cp) (K); damage dD = dlam / eps_f(-p/sigma_eq,
 /// dlam/dt, T) (Johnson & Cook 1985), capped at 1.
-/// Returns the plastic work sigma_y dlam (J/m^3).
-double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
-                              double rho, PointState& st) {
+/// This function takes the first two steps; completeReturns the third and the rest.
+bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
+                           double rho, PointState& st, PendingReturn& r) {
   const double guess = st.eps_rate * dt;
   st.eps_rate = 0.0;
   if (st.damage >= 1.0) {  // a failed point carries no deviatoric stress
     st.s = Sym{};
-    return 0.0;
+    return false;
   }
   const Sym dev_D = D.deviator();
   const Sym s_tr = st.s + jaumannRate(W, st.s) * dt + dev_D * (2.0 * mat.G * dt);
   st.s = s_tr;
 
   // Inside the quasi-static yield surface: elastic. Always so for the Elastic model.
-  if (mat.strength == StrengthModel::Elastic) return 0.0;
+  if (mat.strength == StrengthModel::Elastic) return false;
   const double sigma_eq_tr = vonMises(s_tr);
   const double thermal = thermalFactor(mat, st.T);
   const double sigma_y0 = flowStressAt(mat, st.eps_p, 0.0, thermal);
-  if (sigma_eq_tr <= sigma_y0) return 0.0;
-  double sigma_y = 0;
-  const double dlam =
-      radialReturn(mat, sigma_eq_tr, st.eps_p, dt, thermal, sigma_y0, guess, sigma_y);
-  const double rate = dt > 0.0 ? dlam / dt : 0.0;
-  st.s = s_tr * (1.0 - 3.0 * mat.G * dlam / sigma_eq_tr);
-  const double T0 = st.T;
-  st.eps_p += dlam;
-  if (dt > 0.0) st.eps_rate = dlam / dt;
+  if (sigma_eq_tr <= sigma_y0) return false;
+  r = PendingReturn{&mat, &st, dt, rho, sigma_eq_tr, thermal, sigma_y0, guess, 0.0};
+  return true;
+}
 
-  const double work = sigma_y * dlam;
-  if (mat.cp > 0.0) st.T += mat.taylor_quinney * work / (rho * mat.cp);
-
-  if (mat.damage) {
-    // sigma_eq = sigma_y after the return; a melted point (sigma_y = 0) counts as sigma* = 0.
-    const double triaxiality = sigma_y > 0.0 ? -st.p / sigma_y : 0.0;
-    st.damage = std::min(1.0, st.damage + dlam / failureStrain(mat, triaxiality, rate, T0));
-    if (st.damage >= 1.0) st.s = Sym{};
+void completeReturns(PendingReturn* r, std::size_t count) {
+  // Each return is a chain of dependent pow and log calls (latency ~3x their throughput
+  // here): kLanes independent chains side by side keep the processor busy.
+  constexpr std::size_t kLanes = 8;
+  for (std::size_t b = 0; b < count; b += kLanes) {
+    const std::size_t lanes = std::min(kLanes, count - b);
+    std::array<std::optional<RadialReturn>, kLanes> ret;
+    for (std::size_t k = 0; k < lanes; ++k) ret[k].emplace(r[b + k]);
+    for (bool running = true; running;) {
+      running = false;
+      for (std::size_t k = 0; k < lanes; ++k) {
+        if (ret[k]->done()) continue;
+        ret[k]->iterate();
+        running = running || !ret[k]->done();
+      }
+    }
+    for (std::size_t k = 0; k < lanes; ++k) applyReturn(r[b + k], ret[k]->dlam(), ret[k]->sigmaY());
   }
-  return work;
+}
+
+/// Returns the plastic work per unit volume (J/m^3).
+double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
+                              double rho, PointState& st) {
+  PendingReturn r;
+  if (!trialDeviatoricStress(mat, D, W, dt, rho, st, r)) return 0.0;
+  completeReturns(&r, 1);
+  return r.work;
 }
 
 }  // namespace fesph

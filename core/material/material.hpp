@@ -6,6 +6,7 @@
 
 #include "core/common/types.hpp"
 
+#include <cstddef>
 #include <string>
 
 namespace fesph {
@@ -93,6 +94,30 @@ double eosPressure(const Material& mat, double rho, double e, double damage = 0.
 double waveSpeed(const Material& mat, double rho);
 /// Its square, m^2/s^2: blends of wave speeds are taken on c^2, without two square roots.
 double waveSpeedSquared(const Material& mat, double rho);
+
+/// A point whose elastic trial stress lies outside the yield surface, between its trial
+/// (trialDeviatoricStress) and its radial return (completeReturns).
+struct PendingReturn {
+  const Material* mat = nullptr;
+  PointState* st = nullptr;  ///< st->s holds the trial stress
+  double dt = 0;             ///< s
+  double rho = 0;            ///< density at the start of the step, kg/m^3
+  double sigma_eq_tr = 0;    ///< von Mises of the trial stress, Pa
+  double thermal = 1;        ///< 1 - T*^m at the start of the step
+  double sigma_y0 = 0;       ///< quasi-static flow stress at the start of the step, Pa
+  double guess = 0;          ///< Newton's start: the last plastic increment
+  double work = 0;           ///< out: plastic work over the step, J/m^3
+};
+
+/// The first half of updateDeviatoricStress: Jaumann rotation and elastic trial (st.s becomes
+/// the trial stress). Returns true when the point yields; `r` then holds what its return needs.
+bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
+                           double rho, PointState& st, PendingReturn& r);
+
+/// The second half for `count` yielding points: radial return, heating, damage, and r[k].work.
+/// Several points are iterated side by side, so the processor overlaps one point's pow and log
+/// with another's; each point takes the same operations as alone (the same bits).
+void completeReturns(PendingReturn* r, std::size_t count);
 
 /// Advance the deviatoric stress of one point over dt: Jaumann rotation by the spin W,
 /// elastic trial with the deviatoric rate of deformation, Johnson-Cook radial return,
