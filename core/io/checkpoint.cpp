@@ -32,7 +32,8 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 5: the symmetry planes.
 // 6: the particles' renumbering: SphControls::order_interval and Particles::id.
 // 7: no pair_grad_prev (scratch of one step; older files hold it and the reader skips it).
-constexpr std::int64_t kFormatVersion = 7;
+// 8: no neighbour_last_offset, neighbour_last_index, pair_grad_last (the same: skipped).
+constexpr std::int64_t kFormatVersion = 8;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -401,12 +402,11 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("neighbour_offset", ws.neighbours.offset);
   ar.array("neighbour_index", ws.neighbours.index);
   ar.array("pair_grad", ws.pair_grad);
-  ar.array("neighbour_last_offset", ws.neighbours_last.offset);
-  ar.array("neighbour_last_index", ws.neighbours_last.index);
-  ar.array("pair_grad_last", ws.pair_grad_last);
-  // pair_stab_last and pair_last_slot are scratch: the next step swaps pair_stab into the
-  // first and writes the second before reading it. Format 2 lacks pair_stab: readCheckpoint
-  // recomputes it. The mirror images (mirrors) are scratch: each step builds them afresh.
+  // The last step's list and gradients (neighbours_last, pair_grad_last), pair_stab_last and
+  // pair_last_slot are scratch: the next step swaps the current list, gradients and pair_stab
+  // into the first three and writes the others before reading them (formats 2-7 hold the
+  // first three; the reader skips them). Format 2 lacks pair_stab: readCheckpoint recomputes
+  // it. The mirror images (mirrors) are scratch: each step builds them afresh.
   if (ar.version >= 3) ar.array("pair_stab", ws.pair_stab);
   ar.enter("current");
   transfer(ar, ws.current);

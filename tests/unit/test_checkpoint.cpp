@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -245,32 +246,45 @@ TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit
   requireSameState(run.unbroken, continued);
 }
 
-TEST_CASE("a checkpoint of format 6 (with the scratch pair gradients) continues bit-identically",
+TEST_CASE("checkpoints of formats 6 and 7 (with scratch SPH arrays) continue bit-identically",
           "[unit][checkpoint]") {
-  // Format 6 also stored the pair gradients in the previous configuration, scratch of one step
-  // that format 7 dropped: the reader must skip them. Here they are NaN, so a reader that
-  // used them would not reproduce the unbroken run.
+  // Format 6 also stored the pair gradients in the previous configuration, and formats 2-7 the
+  // last step's neighbour list and pair gradients: scratch, which formats 7 and 8 dropped. The
+  // reader must accept such files and skip those arrays. Here the gradients are NaN and the
+  // list's indices out of range: a reader that checked them would refuse the file, one that
+  // used them in place of the current ones would not reproduce the unbroken run.
   const SplitRun& run = splitRun();
   const Model& first = run.first;
-  REQUIRE(first.sph.neighbours.pairs() > 0);
-  testing::TempFolder dir("checkpoint_format6");
-  const std::string path = checkpointPath(dir.path.string(), first.step);
-  writeCheckpoint(path, first, RunProgress{});
-  {
-    const h5::Handle f = h5::openFile(path, h5::Mode::ReadWrite);
-    const h5::Handle sph = h5::openGroup(f, "sph");
-    REQUIRE(!h5::exists(sph, "pair_grad_prev"));
-    const std::vector<double> nan(3 * first.sph.neighbours.pairs(),
-                                  std::numeric_limits<double>::quiet_NaN());
-    h5::writeArray(sph, "pair_grad_prev", H5T_NATIVE_DOUBLE, nan.data(),
-                   first.sph.neighbours.pairs(), 3);
-    h5::writeAttribute(f, "format_version", std::int64_t{6});
+  const std::size_t pairs = first.sph.neighbours.pairs();
+  REQUIRE(pairs > 0);
+  for (const std::int64_t version : {6, 7}) {
+    INFO("format " << version);
+    testing::TempFolder dir("checkpoint_format" + std::to_string(version));
+    const std::string path = checkpointPath(dir.path.string(), first.step);
+    writeCheckpoint(path, first, RunProgress{});
+    {
+      const h5::Handle f = h5::openFile(path, h5::Mode::ReadWrite);
+      const h5::Handle sph = h5::openGroup(f, "sph");
+      const std::vector<double> nan(3 * pairs, std::numeric_limits<double>::quiet_NaN());
+      const std::vector<int> wild(pairs, -7);
+      const std::vector<std::uint64_t> offsets(first.particles.size() + 1, pairs + 11);
+      for (const char* name : {"pair_grad_prev", "pair_grad_last", "neighbour_last_index",
+                               "neighbour_last_offset"})
+        REQUIRE(!h5::exists(sph, name));
+      if (version == 6)
+        h5::writeArray(sph, "pair_grad_prev", H5T_NATIVE_DOUBLE, nan.data(), pairs, 3);
+      h5::writeArray(sph, "pair_grad_last", H5T_NATIVE_DOUBLE, nan.data(), pairs, 3);
+      h5::writeArray(sph, "neighbour_last_index", H5T_NATIVE_INT, wild.data(), pairs, 1);
+      h5::writeArray(sph, "neighbour_last_offset", H5T_NATIVE_UINT64, offsets.data(),
+                     offsets.size(), 1);
+      h5::writeAttribute(f, "format_version", version);
+    }
+    RunProgress read;
+    Model continued = readCheckpoint(path, read);
+    requireSameState(first, continued);
+    stepTo(continued, 2 * run.N);
+    requireSameState(run.unbroken, continued);
   }
-  RunProgress read;
-  Model continued = readCheckpoint(path, read);
-  requireSameState(first, continued);
-  stepTo(continued, 2 * run.N);
-  requireSameState(run.unbroken, continued);
 }
 
 TEST_CASE("fesph run --restart continues the series and histories, also after a SIGINT",
