@@ -8,8 +8,8 @@
 #include "core/mesh/mesh.hpp"
 
 #include <cmath>
-#include <limits>
 #include <string>
+#include <vector>
 
 namespace fesph {
 
@@ -31,23 +31,23 @@ struct Corners {
                  " (no conversion or erosion mode to catch it)");
 }
 
-/// What pass A keeps of a yielding element until its radial return is done: the trapezoidal
-/// deviatoric power needs the stress before and after it.
-struct YieldingElement {
+/// An element's deviatoric step as the trapezoidal deviatoric work needs it once the stress
+/// after the step is final: the stress before, the rate, the midpoint volume.
+struct DeviatoricStep {
   std::size_t e;
   Sym s_old, D;
   double volume;  ///< at the midpoint configuration, m^3
 };
 
-/// Pass A's scratch for one block of elements: the yielding ones and their returns.
+/// Pass A's scratch for one block of elements: the yielding ones' steps and their returns.
 struct PassAScratch {
-  std::vector<YieldingElement> elems;
+  std::vector<DeviatoricStep> steps;
   std::vector<PendingReturn> returns;
 };
 
 // The trapezoidal deviatoric power over the interval into the element's energy, once its
 // deviatoric stress is final.
-void finishDeviatoricWork(Model& model, const YieldingElement& y, double dt) {
+void finishDeviatoricWork(Model& model, const DeviatoricStep& y, double dt) {
   Elements& el = model.elems;
   PointState& st = el.state[y.e];
   const double dev_work = 0.5 * (y.s_old + st.s).dot(y.D) * y.volume * dt;
@@ -81,7 +81,7 @@ bool updateKinematicsAndTrial(Model& model, std::size_t e, double dt, PassAScrat
   const Sym s_old = st.s;
   PendingReturn r;
   if (trialDeviatoricStress(mat, D, W, dt, el.rho[e], st, r)) {
-    yielding.elems.push_back({e, s_old, D, gm.volume});
+    yielding.steps.push_back({e, s_old, D, gm.volume});
     yielding.returns.push_back(r);
   } else {
     finishDeviatoricWork(model, {e, s_old, D, gm.volume}, dt);
@@ -174,7 +174,7 @@ void computeElementForces(Model& model, double dt_last) {
   const std::array<double, 2> a_sums = orderedBlockSums<2>(
       ne, [&](std::size_t begin, std::size_t end, std::array<double, 2>& sum) {
         thread_local PassAScratch yielding;
-        yielding.elems.clear();
+        yielding.steps.clear();
         yielding.returns.clear();
         for (std::size_t e = begin; e < end; ++e) {
           if (el.status[e] != ElemStatus::Live) continue;
@@ -185,9 +185,9 @@ void computeElementForces(Model& model, double dt_last) {
         }
         completeReturns(yielding.returns.data(), yielding.returns.size());
         // The plastic work in element order (the others' is 0: adding it changes no bit).
-        for (std::size_t k = 0; k < yielding.elems.size(); ++k) {
-          finishDeviatoricWork(model, yielding.elems[k], dt_last);
-          sum[0] += yielding.returns[k].work * yielding.elems[k].volume;
+        for (std::size_t k = 0; k < yielding.steps.size(); ++k) {
+          finishDeviatoricWork(model, yielding.steps[k], dt_last);
+          sum[0] += yielding.returns[k].work * yielding.steps[k].volume;
         }
       });
   const double plastic_sum = a_sums[0];
