@@ -236,9 +236,10 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
 /// pairs. Anti-symmetric bit for bit. `mu` receives -mu_ij (>= 0) for the time step.
 /// x_j, v_j, R_j: j's own (s.x[j] ...) or its mirror image's. Inlined by force: GCC kept it a
 /// call from the pair loop, whose ten arguments cost 18 % of the force pass's instructions.
-[[gnu::always_inline]] inline Vec3 stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i,
-                        std::size_t j, const Vec3& x_j, const Vec3& v_j, const Mat3& R_j,
-                        const Vec3& g, const SphControls& ctl, double& mu) {
+[[gnu::always_inline]] inline Vec3
+stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i, std::size_t j,
+                   const Vec3& x_j, const Vec3& v_j, const Mat3& R_j, const Vec3& g,
+                   const SphControls& ctl, double& mu) {
   const Vec3 r_ij = s.x[i] - x_j;
   const double h_ij = 0.5 * (s.h[i] + s.h[j]);
   Vec3 f = Vec3::Zero();
