@@ -252,9 +252,18 @@ void BM_ImpactStep(benchmark::State& state) {
   // 1.5 us into the impact: plastic flow, contact, conversions under way
   while (m.time < 1.5e-6) step(m, 1.0);
   m.timing = PhaseTimes{};
+  const long builds = m.sph.search.verletBuilds();
+  const long contact_builds = m.sph.search.contactVerletBuilds();
   for (auto _ : state) step(m, 1.0);
   countItems(state, "elements", static_cast<double>(m.elems.size()));
   state.counters["particles"] = static_cast<double>(m.particles.size());
+  if (m.particles.size() > 0) {
+    state.counters["neighbours"] = meanNeighbours(m);
+    // Verlet list builds over the timed steps: SPH pairs, and particle-particle contact pairs
+    state.counters["sph_builds"] = static_cast<double>(m.sph.search.verletBuilds() - builds);
+    state.counters["contact_builds"] =
+        static_cast<double>(m.sph.search.contactVerletBuilds() - contact_builds);
+  }
   countMemory(state, m);
   countPhases(state, m);
 }
