@@ -1,13 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/io/run_metadata.hpp"
 
-#ifndef FESPH_GIT_HASH
-#define FESPH_GIT_HASH "unknown"  // set by CMake at configure time (this file only)
-#endif
-
 namespace fesph {
-
-std::string gitHash() { return FESPH_GIT_HASH; }
 
 void writeRunMetadata(const h5::Handle& loc) {
   h5::writeAttribute(loc, "fesph_version", std::string(FESPH_VERSION));
