@@ -29,6 +29,17 @@ inline bool projectOnFace(const Vec3& p, const Vec3& a, const Vec3& b, const Vec
   return true;
 }
 
+/// The signed distance of p from the plane of triangle (a, b, c) alone, with projectOnFace's
+/// operations (same bits). Returns false for a degenerate triangle.
+inline bool distanceToFace(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                           double& distance) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double area2 = n.squaredNorm();
+  if (!(area2 > 0)) return false;
+  distance = (p - a).dot(n / std::sqrt(area2));
+  return true;
+}
+
 /// Nearest point of the triangle's barycentric range to `w`: clamp and renormalise.
 inline Vec3 clampBary(Vec3 w) {
   w = w.cwiseMax(0.0);

@@ -200,55 +200,54 @@ void formFaceEnd(const Model& model, int face, double dt, long pushes, FaceEnd& 
   e.at = pushes;
 }
 
-// projectOnFace(p, e.a, e.b, e.c, out), term for term.
-bool projectOnFaceEnd(const Vec3& p, const FaceEnd& e, FaceProjection& out) {
-  if (!(e.area2 > 0)) return false;
-  out.normal = e.normal;
-  out.distance = (p - e.a).dot(out.normal);
-  const Vec3 q = p - out.distance * out.normal;
-  out.bary.x() = (e.b - q).cross(e.c - q).dot(e.n) / e.area2;
-  out.bary.y() = (e.c - q).cross(e.a - q).dot(e.n) / e.area2;
-  out.bary.z() = 1.0 - out.bary.x() - out.bary.y();
-  return true;
+// The barycentric weights of q, a point in the plane of face end e, as projectOnFace forms
+// them (same operations, same bits).
+Vec3 baryOnFaceEnd(const Vec3& q, const FaceEnd& e) {
+  Vec3 w;
+  w.x() = (e.b - q).cross(e.c - q).dot(e.n) / e.area2;
+  w.y() = (e.c - q).cross(e.a - q).dot(e.n) / e.area2;
+  w.z() = 1.0 - w.x() - w.y();
+  return w;
 }
 
-void viableFaces(const Model& model, std::size_t p, const FaceGrid& grid, std::int64_t cell,
-                 std::vector<Viable>& out) {
+void viableFaces(const Model& model, std::size_t p, double radius, const FaceGrid& grid,
+                 std::int64_t cell, std::vector<Viable>& out) {
   const Nodes& nd = model.nodes;
-  const Particles& pa = model.particles;
   const auto& faces = model.surfaces.exterior;
-  const double radius = kParticleContactRadius * std::cbrt(pa.V[p]);
+  const Vec3& x = model.particles.x[p];
   const auto [first, last] = grid.faces(cell);
   for (auto e = first; e != last; ++e) {
     const int k = e->second;
     const ExteriorFace& f = faces[k];
-    FaceProjection now;
-    if (projectOnFace(pa.x[p], nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], now) &&
-        now.distance >= -radius)
-      out.push_back({k, now.distance, -1});
+    double distance = 0;
+    if (distanceToFace(x, nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], distance) &&
+        distance >= -radius)
+      out.push_back({k, distance, -1});
   }
 }
 
-// The face particle p penetrates most at the end of the step, if any, among its viable faces.
-Hit deepestHit(const Model& model, std::size_t p, const Viable* viable, const Viable* viable_end,
-               const std::vector<FaceEnd>& ends, double dt) {
+// The face particle p (contact radius `radius`) penetrates most at the end of the step, if
+// any, among its viable faces. The tests on the distance come before the barycentric weights,
+// which only a face within reach needs (most are not).
+Hit deepestHit(const Model& model, std::size_t p, double radius, const Viable* viable,
+               const Viable* viable_end, const std::vector<FaceEnd>& ends, double dt) {
   const Particles& pa = model.particles;
-  const double radius = kParticleContactRadius * std::cbrt(pa.V[p]);
   const Vec3 xp = pa.x[p] + dt * pa.v[p];
   Hit best;
   for (const Viable* it = viable; it != viable_end; ++it) {
-    FaceProjection end;
-    if (!projectOnFaceEnd(xp, ends[static_cast<std::size_t>(it->slot)], end)) continue;
-    // It must end within the face's extent.
-    if (end.bary.minCoeff() < -0.05) continue;
+    const FaceEnd& e = ends[static_cast<std::size_t>(it->slot)];
+    if (!(e.area2 > 0)) continue;
+    const double distance = (xp - e.a).dot(e.normal);
     // A particle already inside its radius (born next to faces, or left there by earlier
     // steps) is only kept from coming closer: pushing it out in one step would need a velocity
     // of overlap/dt and throw it away.
-    if (end.distance >= radius) continue;
-    const double delta =
-        it->distance >= radius ? radius - end.distance : it->distance - end.distance;
+    if (distance >= radius) continue;
+    const double delta = it->distance >= radius ? radius - distance : it->distance - distance;
     if (delta <= 0 || delta <= best.delta) continue;
-    best = Hit{it->face, delta, end.normal, clampBary(end.bary)};
+    // It must end within the face's extent.
+    const Vec3 bary = baryOnFaceEnd(xp - distance * e.normal, e);
+    if (bary.minCoeff() < -0.05) continue;
+    best = Hit{it->face, delta, e.normal, clampBary(bary)};
   }
   return best;
 }
@@ -278,10 +277,13 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   if (pa.size() == 0 || faces.empty() || !(dt > 0)) return;
   const long np = static_cast<long>(pa.size());
 
+  std::vector<double> radius(pa.size());  // contact radii
   double reach = 0;
 #pragma omp parallel for schedule(static) reduction(max : reach) if (np > kParallelMin)
-  for (long p = 0; p < np; ++p)
-    reach = std::max(reach, kParticleContactRadius * std::cbrt(pa.V[p]) + dt * pa.v[p].norm());
+  for (long p = 0; p < np; ++p) {
+    radius[p] = kParticleContactRadius * std::cbrt(pa.V[p]);
+    reach = std::max(reach, radius[p] + dt * pa.v[p].norm());
+  }
   const FaceGrid grid = buildGrid(model, dt, reach);
 
   // The grid cell of a particle is the one of its predicted position before the passes (the
@@ -299,7 +301,8 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
     for (long p = np * t / nt; p < np * (t + 1) / nt; ++p) {
       const std::size_t before = mine.size();
       if (!pa.tie[p].active())
-        viableFaces(model, static_cast<std::size_t>(p), grid, grid.keyOf(pa.x[p] + dt * pa.v[p]), mine);
+        viableFaces(model, static_cast<std::size_t>(p), radius[p], grid,
+                    grid.keyOf(pa.x[p] + dt * pa.v[p]), mine);
       offset[p + 1] = mine.size() - before;
     }
   }
@@ -354,7 +357,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
     for (const Viable* it = first; !stale && it != last; ++it)
       stale = staleSince(it->face, found_at[c]);
     if (!stale) return;
-    hits[c] = deepestHit(model, p, first, last, ends, dt);
+    hits[c] = deepestHit(model, p, radius[p], first, last, ends, dt);
     found_at[c] = pushes;
   };
   for (int k = 1; k <= passes; ++k) {
