@@ -321,8 +321,16 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
     }
   }
   pa.f[i] = f;
+  // A particle with no neighbour (debris flown apart from its body) feels no SPH force: no
+  // wave of its own limits its step, only its travel, held to a fraction of h per step for
+  // the neighbour and contact searches (at rest it sets no limit: h / 0 = inf).
+  bool alone = nb.offset[i + 1] == nb.offset[i];
+  for (const MirrorImage& mi : ws.mirrors)
+    alone = alone && mi.neighbours.offset[i + 1] == mi.neighbours.offset[i];
   const double ci = cur.c[i];
-  const double speed = ci + pa.v[i].norm() + 1.2 * (ctl.av_alpha * ci + ctl.av_beta * mu_max);
+  const double speed =
+      alone ? pa.v[i].norm()
+            : ci + pa.v[i].norm() + 1.2 * (ctl.av_alpha * ci + ctl.av_beta * mu_max);
   pa.dt[i] = ctl.dt_factor * cur.h[i] / speed;
   return heat_power * dt;
 }

@@ -356,6 +356,53 @@ TEST_CASE("sph free body conserves momentum and energy, forces independent of th
 #endif
 }
 
+TEST_CASE("sph time step: a particle without neighbours is held to its travel only",
+          "[unit][sph]") {
+  // Reference: a lone particle feels no SPH force, so no wave limits its step (a free mass
+  // has no stable-step bound); its step is dt_factor h / |v|, a fraction of h travelled per
+  // step, and infinite at rest. A particle with neighbours keeps the wave-speed criterion
+  // dt_factor h / (c + |v| + 1.2 (alpha c + beta mu_max)) (Monaghan 1992), here with v = 0
+  // and no approaching pair: dt_factor h / (c (1 + 1.2 alpha)). Exact to round-off.
+  const double s = 1e-3;
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  std::vector<Vec3> x = lattice(Vec3::Zero(), 4, 4, 4, s);
+  x.push_back(Vec3(0.5, 0, 0));  // far from the block: no neighbour
+  x.push_back(Vec3(0, 0.5, 0));
+  addParticleBody(m, "block", x, std::vector<double>(x.size(), s * s * s), 0, Vec3::Zero(),
+                  false);
+  const double speed = 800.0;
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    if (m.particles.x[i].x() > 0.1) m.particles.v[i] = Vec3(speed, 0, 0);
+  finaliseModel(m);
+  step(m, 1.0);
+
+  const Particles& pa = m.particles;
+  const SphControls& ctl = m.sph.controls;
+  int flying = 0, resting = 0, inside = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    const double h = m.sph.current.h[i];
+    if (pa.x[i].x() > 0.1) {
+      ++flying;
+      REQUIRE(pa.dt[i] == Approx(ctl.dt_factor * h / speed).epsilon(1e-14));
+    } else if (pa.x[i].y() > 0.1) {
+      ++resting;
+      REQUIRE(std::isinf(pa.dt[i]));
+    } else {
+      ++inside;
+      const double c = m.sph.current.c[i];
+      REQUIRE(pa.dt[i] == Approx(ctl.dt_factor * h / (c * (1 + 1.2 * ctl.av_alpha))).epsilon(1e-12));
+    }
+  }
+  REQUIRE(flying == 1);
+  REQUIRE(resting == 1);
+  REQUIRE(inside == 64);
+  // the block's particles set the step, not the lone ones (whose steps are longer here)
+  REQUIRE(m.dt_limiter.rfind("particle ", 0) == 0);
+  const int limiter = std::stoi(m.dt_limiter.substr(9));
+  REQUIRE(pa.x[limiter].norm() < 0.1);
+}
+
 TEST_CASE("sph with no particles changes nothing", "[unit][sph]") {
   Model m;
   m.energy.internal = 1.5;
