@@ -361,8 +361,8 @@ TEST_CASE("sph time step: a particle without neighbours is held to its travel on
   // Reference: a lone particle feels no SPH force, so no wave limits its step (a free mass
   // has no stable-step bound); its step is dt_factor h / |v|, a fraction of h travelled per
   // step, and infinite at rest. A particle with neighbours keeps the wave-speed criterion
-  // dt_factor h / (c + |v| + 1.2 (alpha c + beta mu_max)) (Monaghan 1992), here with v = 0
-  // and no approaching pair: dt_factor h / (c (1 + 1.2 alpha)). Exact to round-off.
+  // dt_factor h / (c + |v| + 1.2 (alpha c + beta mu_max)) (docs/sph.md, item 10), here with
+  // v = 0 and no approaching pair: dt_factor h / (c (1 + 1.2 alpha)). Exact to round-off.
   const double s = 1e-3;
   Model m;
   m.materials.push_back(fesph::testing::elasticMaterial());
@@ -391,7 +391,8 @@ TEST_CASE("sph time step: a particle without neighbours is held to its travel on
     } else {
       ++inside;
       const double c = m.sph.current.c[i];
-      REQUIRE(pa.dt[i] == Approx(ctl.dt_factor * h / (c * (1 + 1.2 * ctl.av_alpha))).epsilon(1e-12));
+      const double expected = ctl.dt_factor * h / (c * (1 + 1.2 * ctl.av_alpha));
+      REQUIRE(pa.dt[i] == Approx(expected).epsilon(1e-12));
     }
   }
   REQUIRE(flying == 1);
