@@ -13,30 +13,52 @@ struct FaceProjection {
   double distance = 0;         ///< signed distance of the point along the normal, m
 };
 
+/// The plane of triangle (a, b, c): n = (b - a) x (c - a), |n|^2 and, for a triangle that is
+/// not degenerate (valid()), the unit normal n / |n|.
+struct FacePlane {
+  Vec3 n = Vec3::Zero();
+  double area2 = 0;  ///< |n|^2, (2 x area)^2
+  Vec3 normal = Vec3::Zero();
+  bool valid() const { return area2 > 0; }
+};
+
+inline FacePlane facePlane(const Vec3& a, const Vec3& b, const Vec3& c) {
+  FacePlane f;
+  f.n = (b - a).cross(c - a);
+  f.area2 = f.n.squaredNorm();
+  if (f.valid()) f.normal = f.n / std::sqrt(f.area2);
+  return f;
+}
+
+/// Barycentric weights of q, a point in the plane f of triangle (a, b, c): the areas of the
+/// sub-triangles opposite each vertex, signed against n.
+inline Vec3 baryInPlane(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c,
+                        const FacePlane& f) {
+  Vec3 w;
+  w.x() = (b - q).cross(c - q).dot(f.n) / f.area2;
+  w.y() = (c - q).cross(a - q).dot(f.n) / f.area2;
+  w.z() = 1.0 - w.x() - w.y();
+  return w;
+}
+
 /// Project p on the plane of triangle (a, b, c). Returns false for a degenerate triangle.
 inline bool projectOnFace(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
                           FaceProjection& out) {
-  const Vec3 n = (b - a).cross(c - a);
-  const double area2 = n.squaredNorm();
-  if (!(area2 > 0)) return false;
-  out.normal = n / std::sqrt(area2);
+  const FacePlane f = facePlane(a, b, c);
+  if (!f.valid()) return false;
+  out.normal = f.normal;
   out.distance = (p - a).dot(out.normal);
-  const Vec3 q = p - out.distance * out.normal;
-  // areas of the sub-triangles opposite each vertex, signed against n
-  out.bary.x() = (b - q).cross(c - q).dot(n) / area2;
-  out.bary.y() = (c - q).cross(a - q).dot(n) / area2;
-  out.bary.z() = 1.0 - out.bary.x() - out.bary.y();
+  out.bary = baryInPlane(p - out.distance * out.normal, a, b, c, f);
   return true;
 }
 
-/// The signed distance of p from the plane of triangle (a, b, c) alone, with projectOnFace's
-/// operations (same bits). Returns false for a degenerate triangle.
+/// The signed distance of p from the plane of triangle (a, b, c) alone, as projectOnFace
+/// takes it. Returns false for a degenerate triangle.
 inline bool distanceToFace(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
                            double& distance) {
-  const Vec3 n = (b - a).cross(c - a);
-  const double area2 = n.squaredNorm();
-  if (!(area2 > 0)) return false;
-  distance = (p - a).dot(n / std::sqrt(area2));
+  const FacePlane f = facePlane(a, b, c);
+  if (!f.valid()) return false;
+  distance = (p - a).dot(f.normal);
   return true;
 }
 

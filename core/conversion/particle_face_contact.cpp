@@ -179,12 +179,11 @@ struct Viable {
   int slot = -1;    ///< the face's entry in the face ends (FaceEnd) of this step
 };
 
-// A face's triangle at the end of the step, formed as projectOnFace forms it (same
-// operations, same bits), once per face instead of once per particle near it.
+// A face's triangle at the end of the step and its plane, once per face instead of once per
+// particle near it.
 struct FaceEnd {
-  Vec3 a, b, c;    ///< vertices at x + dt v, m
-  Vec3 n, normal;  ///< (b - a) x (c - a), and it made unit
-  double area2 = 0;
+  Vec3 a, b, c;  ///< vertices at x + dt v, m
+  FacePlane plane;
   long at = -1;  ///< push count when formed (-1: not yet)
 };
 
@@ -194,20 +193,8 @@ void formFaceEnd(const Model& model, int face, double dt, long pushes, FaceEnd& 
   e.a = nd.x[f.node[0]] + dt * nd.v[f.node[0]];
   e.b = nd.x[f.node[1]] + dt * nd.v[f.node[1]];
   e.c = nd.x[f.node[2]] + dt * nd.v[f.node[2]];
-  e.n = (e.b - e.a).cross(e.c - e.a);
-  e.area2 = e.n.squaredNorm();
-  if (e.area2 > 0) e.normal = e.n / std::sqrt(e.area2);
+  e.plane = facePlane(e.a, e.b, e.c);
   e.at = pushes;
-}
-
-// The barycentric weights of q, a point in the plane of face end e, as projectOnFace forms
-// them (same operations, same bits).
-Vec3 baryOnFaceEnd(const Vec3& q, const FaceEnd& e) {
-  Vec3 w;
-  w.x() = (e.b - q).cross(e.c - q).dot(e.n) / e.area2;
-  w.y() = (e.c - q).cross(e.a - q).dot(e.n) / e.area2;
-  w.z() = 1.0 - w.x() - w.y();
-  return w;
 }
 
 void viableFaces(const Model& model, std::size_t p, double radius, const FaceGrid& grid,
@@ -236,8 +223,8 @@ Hit deepestHit(const Model& model, std::size_t p, double radius, const Viable* v
   Hit best;
   for (const Viable* it = viable; it != viable_end; ++it) {
     const FaceEnd& e = ends[static_cast<std::size_t>(it->slot)];
-    if (!(e.area2 > 0)) continue;
-    const double distance = (xp - e.a).dot(e.normal);
+    if (!e.plane.valid()) continue;
+    const double distance = (xp - e.a).dot(e.plane.normal);
     // A particle already inside its radius (born next to faces, or left there by earlier
     // steps) is only kept from coming closer: pushing it out in one step would need a velocity
     // of overlap/dt and throw it away.
@@ -245,9 +232,9 @@ Hit deepestHit(const Model& model, std::size_t p, double radius, const Viable* v
     const double delta = it->distance >= radius ? radius - distance : it->distance - distance;
     if (delta <= 0 || delta <= best.delta) continue;
     // It must end within the face's extent.
-    const Vec3 bary = baryOnFaceEnd(xp - distance * e.normal, e);
+    const Vec3 bary = baryInPlane(xp - distance * e.plane.normal, e.a, e.b, e.c, e.plane);
     if (bary.minCoeff() < -0.05) continue;
-    best = Hit{it->face, delta, e.normal, clampBary(bary)};
+    best = Hit{it->face, delta, e.plane.normal, clampBary(bary)};
   }
   return best;
 }
