@@ -79,6 +79,14 @@ void resizeWorkspace(SphWorkspace& ws, std::size_t n) {
   ws.av_work.resize(n);
 }
 
+/// Neighbours of particle i in this step's lists: its own body's and the mirror images'.
+std::size_t neighbourCount(const SphWorkspace& ws, std::size_t i) {
+  std::size_t count = ws.neighbours.offset[i + 1] - ws.neighbours.offset[i];
+  for (const MirrorImage& mi : ws.mirrors)
+    count += mi.neighbours.offset[i + 1] - mi.neighbours.offset[i];
+  return count;
+}
+
 /// Pass 1 for particle i: kernel gradients of its pairs, correction B_i and velocity gradient
 /// L_i = sum_j V_j (v_j - v_i) (x) (B_i grad W_ij), exact for linear velocity fields; and the
 /// same gradient of v^{n-1/2} over the last step's configuration (the exact dual of the last
@@ -102,7 +110,6 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   }
   // The mirror images of the particles near a symmetry plane are neighbours as the other
   // half's particles are in the full model: the same sums with x_j, v_j reflected.
-  std::size_t count = nb.offset[i + 1] - nb.offset[i];
   for (MirrorImage& mi : ws.mirrors) {
     const NeighbourList& ml = mi.neighbours;
     for (std::size_t k = ml.offset[i]; k < ml.offset[i + 1]; ++k) {
@@ -113,10 +120,9 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
       A.noalias() -= (pa.V[j] * r_ij) * g.transpose();
       G.noalias() += (pa.V[j] * (mi.map.vector(pa.v[j]) - pa.v[i])) * g.transpose();
     }
-    count += ml.offset[i + 1] - ml.offset[i];
   }
   bool corrected = false;
-  const Mat3 B = gradientCorrection(A, count, ws.controls, corrected);
+  const Mat3 B = gradientCorrection(A, neighbourCount(ws, i), ws.controls, corrected);
   cur.B[i] = B;
   ws.corrected[i] = corrected ? 1 : 0;
   ws.velocity_grad[i] = G * B;
@@ -324,13 +330,11 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   // A particle with no neighbour (debris flown apart from its body) feels no SPH force: no
   // wave of its own limits its step, only its travel, held to a fraction of h per step for
   // the neighbour and contact searches (at rest it sets no limit: h / 0 = inf).
-  bool alone = nb.offset[i + 1] == nb.offset[i];
-  for (const MirrorImage& mi : ws.mirrors)
-    alone = alone && mi.neighbours.offset[i + 1] == mi.neighbours.offset[i];
   const double ci = cur.c[i];
   const double speed =
-      alone ? pa.v[i].norm()
-            : ci + pa.v[i].norm() + 1.2 * (ctl.av_alpha * ci + ctl.av_beta * mu_max);
+      neighbourCount(ws, i) == 0
+          ? pa.v[i].norm()
+          : ci + pa.v[i].norm() + 1.2 * (ctl.av_alpha * ci + ctl.av_beta * mu_max);
   pa.dt[i] = ctl.dt_factor * cur.h[i] / speed;
   return heat_power * dt;
 }
