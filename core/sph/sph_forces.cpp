@@ -99,6 +99,8 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   cur.v[i] = pa.v[i];
   cur.h[i] = pa.h[i];
   cur.V[i] = pa.V[i];
+  // A and G in two walks over the row: one walk keeping both sums (18 accumulators) ran out
+  // of registers. Each sum takes its terms in row order either way.
   Mat3 A = Mat3::Zero(), G = Mat3::Zero();
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const int j = nb.index[k];
@@ -106,7 +108,10 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
     const Vec3 g = kernelGradient(r_ij, 0.5 * (pa.h[i] + pa.h[j]));
     ws.pair_grad[k] = g;
     A.noalias() -= (pa.V[j] * r_ij) * g.transpose();
-    G.noalias() += (pa.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
+  }
+  for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+    const int j = nb.index[k];
+    G.noalias() += (pa.V[j] * (pa.v[j] - pa.v[i])) * ws.pair_grad[k].transpose();
   }
   // The mirror images of the particles near a symmetry plane are neighbours as the other
   // half's particles are in the full model: the same sums with x_j, v_j reflected.
