@@ -101,14 +101,18 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   const auto& faces = model.surfaces.exterior;
   const long nf = static_cast<long>(faces.size()), np = static_cast<long>(pa.size());
   FaceGrid g;
-  std::vector<double> longest(faces.size(), 0.0);
+  // The median longest edge, from the squares: sqrt is monotonic and correctly rounded, so the
+  // root of the median square is the median length bit for bit, for one sqrt instead of 3 nf.
+  std::vector<double> longest_sq(faces.size(), 0.0);
 #pragma omp parallel for schedule(static) if (nf > kParallelMin)
   for (long k = 0; k < nf; ++k)
     for (int i = 0; i < 3; ++i)
-      longest[k] = std::max(
-          longest[k], (nd.x[faces[k].node[i]] - nd.x[faces[k].node[(i + 1) % 3]]).norm());
-  std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
-  g.cell = std::max(longest[longest.size() / 2], 2 * reach);
+      longest_sq[k] = std::max(
+          longest_sq[k],
+          (nd.x[faces[k].node[i]] - nd.x[faces[k].node[(i + 1) % 3]]).squaredNorm());
+  std::nth_element(longest_sq.begin(), longest_sq.begin() + longest_sq.size() / 2,
+                   longest_sq.end());
+  g.cell = std::max(std::sqrt(longest_sq[longest_sq.size() / 2]), 2 * reach);
   std::vector<std::int64_t> cell_of(pa.size());
   std::vector<char> untied(pa.size());
 #pragma omp parallel for schedule(static) if (np > kParallelMin)
