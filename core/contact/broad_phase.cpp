@@ -70,16 +70,14 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
 #pragma omp parallel for schedule(static) reduction(+ : extent_sum) if (nfaces > 256)
   for (std::size_t f = 0; f < nfaces; ++f) {
     const auto& n = s.exterior[f].node;
-    double longest_sq = 0;  // one sqrt of the largest square: the largest norm, bit for bit
     Vec3 lo = nd.x[n[0]], hi = nd.x[n[0]];
     for (int i = 0; i < 3; ++i) {
       const Vec3& x = nd.x[n[i]];
       const Vec3 y = x + dt * nd.v[n[i]];
       lo = lo.cwiseMin(x).cwiseMin(y);
       hi = hi.cwiseMax(x).cwiseMax(y);
-      longest_sq = std::max(longest_sq, (nd.x[n[(i + 1) % 3]] - x).squaredNorm());
     }
-    const double tol = depth_tolerance * std::sqrt(longest_sq);
+    const double tol = depth_tolerance * std::sqrt(longestEdgeSquared(nd.x, s.exterior[f]));
     w.face_tol[f] = tol;
     w.face_lo[f] = lo.array() - tol;
     w.face_hi[f] = hi.array() + tol;

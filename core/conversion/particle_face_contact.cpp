@@ -102,14 +102,10 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   const long nf = static_cast<long>(faces.size()), np = static_cast<long>(pa.size());
   FaceGrid g;
   // The median longest edge, from the squares: sqrt is monotonic and correctly rounded, so the
-  // root of the median square is the median length bit for bit, for one sqrt instead of 3 nf.
-  std::vector<double> longest_sq(faces.size(), 0.0);
+  // root of the median square is the median length bit for bit, for one sqrt instead of nf.
+  std::vector<double> longest_sq(faces.size());
 #pragma omp parallel for schedule(static) if (nf > kParallelMin)
-  for (long k = 0; k < nf; ++k)
-    for (int i = 0; i < 3; ++i)
-      longest_sq[k] = std::max(
-          longest_sq[k],
-          (nd.x[faces[k].node[i]] - nd.x[faces[k].node[(i + 1) % 3]]).squaredNorm());
+  for (long k = 0; k < nf; ++k) longest_sq[k] = longestEdgeSquared(nd.x, faces[k]);
   std::nth_element(longest_sq.begin(), longest_sq.begin() + longest_sq.size() / 2,
                    longest_sq.end());
   g.cell = std::max(std::sqrt(longest_sq[longest_sq.size() / 2]), 2 * reach);

@@ -6,6 +6,7 @@
 #include "core/common/thread_buffer.hpp"
 #include "core/common/types.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -29,6 +30,16 @@ struct ExteriorFace {
   int body = -1;
   int face = -1;  ///< index in Surfaces::table
 };
+
+/// The square of face f's longest edge at positions x (m^2). Searches that need the length
+/// take one sqrt of this: sqrt is monotonic and correctly rounded, so that is the longest of
+/// the three lengths bit for bit.
+inline double longestEdgeSquared(const std::vector<Vec3>& x, const ExteriorFace& f) {
+  double longest_sq = 0;
+  for (int i = 0; i < 3; ++i)
+    longest_sq = std::max(longest_sq, (x[f.node[(i + 1) % 3]] - x[f.node[i]]).squaredNorm());
+  return longest_sq;
+}
 
 /// Node -> candidate exterior faces of other bodies for one step (CSR), from the broad phase.
 struct ContactCandidates {
