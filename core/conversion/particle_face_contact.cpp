@@ -4,10 +4,12 @@
 #include "core/conversion/face_geometry.hpp"
 #include "core/common/omp_threads.hpp"
 #include "core/common/thread_buffer.hpp"
+#include "core/common/union_find.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <climits>
 #include <utility>
 #include <vector>
@@ -256,6 +258,60 @@ void applyHit(Model& model, std::size_t p, const Hit& hit, double alpha, double 
   }
 }
 
+// The candidates (indices into `candidates`) in groups that share no face node: members
+// ascending within a group, the groups largest first (the order the threads take them in,
+// which changes no result). One thread takes them all as one group, without the grouping.
+struct SweepGroups {
+  std::vector<long> members;
+  std::vector<std::size_t> start;  ///< group g's members are [start[g], start[g + 1])
+  std::vector<std::size_t> order;
+};
+
+SweepGroups sweepGroups(const Model& model, const std::vector<int>& candidates,
+                        const std::vector<std::size_t>& offset, const std::vector<Viable>& viable,
+                        const std::vector<int>& slot_face) {
+  SweepGroups g;
+  if (maxThreads() == 1 || candidates.size() <= static_cast<std::size_t>(kParallelMin)) {
+    g.members.resize(candidates.size());
+    std::iota(g.members.begin(), g.members.end(), 0L);
+    g.start = {0, candidates.size()};
+    g.order = {0};
+    return g;
+  }
+  const auto& faces = model.surfaces.exterior;
+  // Disjoint sets of face slots: slots that share a node, and the viable slots of a candidate.
+  UnionFind joined(slot_face.size());
+  std::vector<int> slot_at(model.nodes.size(), -1);  // a slot with the node
+  for (std::size_t s = 0; s < slot_face.size(); ++s)
+    for (int a : faces[static_cast<std::size_t>(slot_face[s])].node) {
+      if (slot_at[a] < 0)
+        slot_at[a] = static_cast<int>(s);
+      else
+        joined.join(static_cast<int>(s), slot_at[a]);
+    }
+  std::vector<std::pair<int, long>> root_of;  // (root slot, candidate)
+  root_of.reserve(candidates.size());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const std::size_t p = static_cast<std::size_t>(candidates[c]);
+    const int anchor = viable[offset[p]].slot;
+    for (std::size_t v = offset[p] + 1; v < offset[p + 1]; ++v) joined.join(viable[v].slot, anchor);
+  }
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    root_of.emplace_back(joined.find(viable[offset[candidates[c]]].slot), static_cast<long>(c));
+  std::sort(root_of.begin(), root_of.end());
+  for (std::size_t m = 0; m < root_of.size(); ++m) {
+    if (m == 0 || root_of[m].first != root_of[m - 1].first) g.start.push_back(m);
+    g.members.push_back(root_of[m].second);
+  }
+  g.start.push_back(root_of.size());
+  g.order.resize(g.start.size() - 1);
+  std::iota(g.order.begin(), g.order.end(), std::size_t{0});
+  std::stable_sort(g.order.begin(), g.order.end(), [&](std::size_t a, std::size_t b) {
+    return g.start[a + 1] - g.start[a] > g.start[b + 1] - g.start[b];
+  });
+  return g;
+}
+
 }  // namespace
 
 void enforceParticleFaceContact(Model& model, double dt, int passes) {
@@ -317,8 +373,8 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // a hit (or a face end) found once stays right until one of those nodes is pushed: every
   // push is stamped on the face's nodes, and what is older than a stamp among its nodes is
   // found again. Each pass renews the stale face ends and hits in parallel, then sweeps the
-  // particles sequentially in particle order (particles share face nodes), renewing those
-  // made stale earlier in the sweep.
+  // particles in particle order (particles share face nodes), renewing those made stale
+  // earlier in the sweep.
   const long nc = static_cast<long>(candidates.size());
   const long ns = static_cast<long>(slot_face.size());
   std::vector<FaceEnd> ends(slot_face.size());
@@ -332,11 +388,11 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
       if (pushed_at[a] >= at) return true;
     return false;
   };
-  const auto renewEnd = [&](long s) {
-    if (staleSince(slot_face[s], ends[s].at)) formFaceEnd(model, slot_face[s], dt, pushes, ends[s]);
+  const auto renewEnd = [&](long s, long now) {
+    if (staleSince(slot_face[s], ends[s].at)) formFaceEnd(model, slot_face[s], dt, now, ends[s]);
   };
   // The face ends must be fresh (renewEnd) for the viable faces of candidate c.
-  const auto renewHit = [&](long c) {
+  const auto renewHit = [&](long c, long now) {
     const std::size_t p = static_cast<std::size_t>(candidates[c]);
     const Viable* first = viable.data() + offset[p];
     const Viable* last = viable.data() + offset[p + 1];
@@ -345,30 +401,48 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
       stale = staleSince(it->face, found_at[c]);
     if (!stale) return;
     hits[c] = deepestHit(model, p, radius[p], first, last, ends, dt);
-    found_at[c] = pushes;
+    found_at[c] = now;
   };
+
+  // A push moves the pusher's own particle and the nodes of one of its viable faces, so
+  // candidates whose viable faces share no node never see each other's pushes. Grouped by
+  // shared nodes, the groups are swept side by side, each in ascending candidate order and
+  // counting its own pushes from the pass's start: within a group that orders pushes and
+  // finds as the one sweep over all candidates did, and no stamp is ever compared across
+  // groups, so the result is that sweep's bit for bit, for any thread count.
+  const SweepGroups groups = sweepGroups(model, candidates, offset, viable, slot_face);
+  const long ng = static_cast<long>(groups.order.size());
   for (int k = 1; k <= passes; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
 #pragma omp parallel if (nc > kParallelMin)
     {
 #pragma omp for schedule(static)
-      for (long s = 0; s < ns; ++s) renewEnd(s);
+      for (long s = 0; s < ns; ++s) renewEnd(s, pushes);
 #pragma omp for schedule(dynamic, 8)
-      for (long c = 0; c < nc; ++c) renewHit(c);
+      for (long c = 0; c < nc; ++c) renewHit(c, pushes);
     }
     const long pushes_before = pushes;
-    for (long c = 0; c < nc; ++c) {
-      if (pushes > pushes_before) {
-        const std::size_t p = static_cast<std::size_t>(candidates[c]);
-        for (std::size_t v = offset[p]; v < offset[p + 1]; ++v) renewEnd(viable[v].slot);
-        renewHit(c);
+    long pushed = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : pushed) if (nc > kParallelMin)
+    for (long gi = 0; gi < ng; ++gi) {
+      const std::size_t g = groups.order[static_cast<std::size_t>(gi)];
+      long now = pushes_before;
+      for (std::size_t m = groups.start[g]; m < groups.start[g + 1]; ++m) {
+        const long c = groups.members[m];
+        if (now > pushes_before) {
+          const std::size_t p = static_cast<std::size_t>(candidates[c]);
+          for (std::size_t v = offset[p]; v < offset[p + 1]; ++v) renewEnd(viable[v].slot, now);
+          renewHit(c, now);
+        }
+        if (hits[c].face < 0) continue;
+        applyHit(model, static_cast<std::size_t>(candidates[c]), hits[c], alpha, dt);
+        for (int a : faces[hits[c].face].node) pushed_at[a] = now;
+        ++now;
       }
-      if (hits[c].face < 0) continue;
-      applyHit(model, static_cast<std::size_t>(candidates[c]), hits[c], alpha, dt);
-      for (int a : faces[hits[c].face].node) pushed_at[a] = pushes;
-      ++pushes;
+      pushed += now - pushes_before;
     }
-    if (pushes == pushes_before) break;
+    pushes = pushes_before + pushed;  // above every stamp of this pass
+    if (pushed == 0) break;
   }
 }
 
