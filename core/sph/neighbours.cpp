@@ -157,6 +157,10 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
   // make a third of the list, a build sheds the stale pairs the filter keeps testing.
   bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built) ||
                  3 * pairs_added > candidates.index.size();
+  std::vector<Vec3> shift;  // the translation u of each group since the build (below)
+  const auto groupOf = [&](std::size_t i) {
+    return per_body ? static_cast<std::size_t>(body[i]) : std::size_t{0};
+  };
   if (!rebuild) {
     // The motion is measured relative to a translation u shared by all the particles that can
     // pair (each body for SPH pairs, everyone for pairs across bodies): a pair's distance
@@ -168,12 +172,12 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
     if (per_body)
       for (std::size_t i = 0; i < n_built; ++i)
         n_groups = std::max(n_groups, static_cast<std::size_t>(body[i]) + 1);
-    std::vector<Vec3> shift(n_groups, Vec3::Zero());
+    shift.assign(n_groups, Vec3::Zero());
     comp.resize(n_groups);
     for (int a = 0; a < 3; ++a) {
       for (auto& v : comp) v.clear();
       for (std::size_t i = 0; i < n_built; ++i)
-        comp[per_body ? static_cast<std::size_t>(body[i]) : 0].push_back(x[i][a] - x_built[i][a]);
+        comp[groupOf(i)].push_back(x[i][a] - x_built[i][a]);
       for (std::size_t g = 0; g < n_groups; ++g) {
         std::vector<double>& v = comp[g];
         if (v.empty()) continue;
@@ -181,9 +185,7 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
         shift[g][a] = v[v.size() / 2];
       }
     }
-    const auto shiftOf = [&](std::size_t i) -> const Vec3& {
-      return shift[per_body ? static_cast<std::size_t>(body[i]) : 0];
-    };
+    const auto shiftOf = [&](std::size_t i) -> const Vec3& { return shift[groupOf(i)]; };
     const auto pastMargin = [&](std::size_t i) {
       const double drift =
           (x[i] - x_built[i] - shiftOf(i)).norm() + std::max(0.0, r[i] - r_built[i]);
@@ -225,7 +227,12 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
     return true;
   }
   if (appended) {
-    x_built.insert(x_built.end(), x.begin() + static_cast<std::ptrdiff_t>(n_built), x.end());
+    // Built where they would be had they moved with their group's u since the build, as
+    // re-seated particles are, so that their drift starts from zero: built where they are, a
+    // new particle of a body flying on together was paired with the others' built positions
+    // off by u, and pairs went missing (2-6 a step early in the quick four-plate run).
+    for (std::size_t i = n_built; i < n; ++i)
+      x_built.push_back(groupOf(i) < shift.size() ? Vec3(x[i] - shift[groupOf(i)]) : x[i]);
     r_built.insert(r_built.end(), r.begin() + static_cast<std::ptrdiff_t>(n_built), r.end());
     r_wide.resize(n);
     for (std::size_t i = n_built; i < n; ++i) r_wide[i] = (1.0 + 0.5 * skin) * r[i];

@@ -223,6 +223,47 @@ TEST_CASE("sph Verlet list follows a body flying on together: exact, and few bui
   CHECK(search.verletBuilds() > builds_before_jump);  // the jump of a third did force one
 }
 
+TEST_CASE("sph Verlet list pairs particles born into a body flying on together",
+          "[unit][sph]") {
+  // Reference: sphNeighboursBruteForce at every call (exact equality of the lists), and all
+  // pairs i < j of different bodies within h_i + h_j for the contact list. Body 0 flies at
+  // 0.2 h per call, so its translation since the build soon exceeds the 0.15 h margin that
+  // its particles' drift is measured against; 10 particles are born into it at every call
+  // (conversions in a moving projectile), next to its particles and flying with them. A new
+  // particle must be paired as if it had flown with its body since the build, like the
+  // others: paired where it is, it missed neighbours once the body had flown on by more than
+  // the margin.
+  DriftingCloud c = driftingCloud(13, Vec3(0, 0, 0.2 * 0.4e-3));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> dir(-1.0, 1.0);
+  NeighbourSearch search;
+  NeighbourList verlet, fresh;
+  std::vector<std::pair<int, int>> pairs, reference;
+  const int calls = 20;
+  for (int k = 0; k < calls; ++k) {
+    if (k > 0)
+      for (int b = 0; b < 10; ++b) {
+        const std::size_t near = 2 * (rng() % 750);  // a particle of body 0
+        c.x.push_back(c.x[near] + 0.3 * c.h[near] * Vec3(dir(rng), dir(rng), dir(rng)));
+        c.drift.push_back(c.drift[near]);
+        c.h.push_back(c.h[near]);
+        c.body.push_back(0);
+      }
+    requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
+    search.crossBodyPairsVerlet(c.x, c.h, c.body, 0.3, pairs);
+    reference.clear();
+    for (std::size_t i = 0; i < c.x.size(); ++i)
+      for (std::size_t j = i + 1; j < c.x.size(); ++j)
+        if (c.body[i] != c.body[j] &&
+            (c.x[i] - c.x[j]).squaredNorm() < (c.h[i] + c.h[j]) * (c.h[i] + c.h[j]))
+          reference.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    INFO("call " << k << ": " << pairs.size() << " contact pairs");
+    REQUIRE(pairs == reference);
+    for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i];
+  }
+  CHECK(search.verletBuilds() < calls / 3);  // the body flew on, the births kept the list
+}
+
 TEST_CASE("sph Verlet list re-seats a fast particle crossing a cloud: exact, no builds",
           "[unit][sph]") {
   // A particle flies through a still cloud at 0.4 h per call (debris late in a run): past its
