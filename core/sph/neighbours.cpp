@@ -13,6 +13,8 @@ namespace {
 // Up to this share of the particles past their Verlet margin are re-seated (paired again
 // through a grid); more, and the list is built afresh, which costs about as much.
 constexpr std::size_t kReseatShare = 8;  // 1 in 8
+// Displacements per group whose median is taken as the Verlet lists' common translation.
+constexpr std::size_t kShiftSamples = 256;
 
 /// Compressed rows built in parallel without atomics: each thread takes one contiguous block
 /// of rows, collects them in its own buffer, and copies the buffer to its place once the
@@ -167,24 +169,31 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
     // changes by at most |d_i - u| + |d_j - u| for any common u, so a body's particles
     // flying on together force fewer builds (115 -> 86 over 344 steps late in the four-plate
     // quick run). u is the median displacement, component by component: a few particles
-    // flying off fast (debris) do not move it, as they moved the centre of the box.
+    // flying off fast (debris) do not move it, as they moved the centre of the box. Any u
+    // keeps the lists exact (only the cost depends on it), so the median of every stride-th
+    // particle, some kShiftSamples of a group, does: the whole group's medians took two
+    // thirds of the lists' upkeep.
     std::size_t n_groups = 1;
     if (per_body)
       for (std::size_t i = 0; i < n_built; ++i)
         n_groups = std::max(n_groups, static_cast<std::size_t>(body[i]) + 1);
+    std::vector<std::size_t> members(n_groups, 0), seen(n_groups, 0);
+    for (std::size_t i = 0; i < n_built; ++i) ++members[groupOf(i)];
+    comp.resize(3 * n_groups);
+    for (auto& v : comp) v.clear();
+    for (std::size_t i = 0; i < n_built; ++i) {
+      const std::size_t g = groupOf(i);
+      if (seen[g]++ % std::max<std::size_t>(1, members[g] / kShiftSamples) != 0) continue;
+      for (int a = 0; a < 3; ++a) comp[3 * g + a].push_back(x[i][a] - x_built[i][a]);
+    }
     shift.assign(n_groups, Vec3::Zero());
-    comp.resize(n_groups);
-    for (int a = 0; a < 3; ++a) {
-      for (auto& v : comp) v.clear();
-      for (std::size_t i = 0; i < n_built; ++i)
-        comp[groupOf(i)].push_back(x[i][a] - x_built[i][a]);
-      for (std::size_t g = 0; g < n_groups; ++g) {
-        std::vector<double>& v = comp[g];
+    for (std::size_t g = 0; g < n_groups; ++g)
+      for (int a = 0; a < 3; ++a) {
+        std::vector<double>& v = comp[3 * g + static_cast<std::size_t>(a)];
         if (v.empty()) continue;
         std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
         shift[g][a] = v[v.size() / 2];
       }
-    }
     const auto shiftOf = [&](std::size_t i) -> const Vec3& { return shift[groupOf(i)]; };
     const auto pastMargin = [&](std::size_t i) {
       const double drift =
@@ -193,9 +202,12 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
     };
     const long nb = static_cast<long>(n_built);
     long past = 0;
+    is_past.resize(n_built);
 #pragma omp parallel for schedule(static) reduction(+ : past)
-    for (long i = 0; i < nb; ++i)
-      if (pastMargin(static_cast<std::size_t>(i))) ++past;
+    for (long i = 0; i < nb; ++i) {
+      is_past[i] = pastMargin(static_cast<std::size_t>(i));
+      past += is_past[i];
+    }
     // A few particles past their margin (late in a run: debris flying off fast, which would
     // force a build every few steps) are re-seated: built again where they would be had they
     // moved with the shift u, so their drift starts from zero, and paired afresh
@@ -206,7 +218,7 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
       rebuild = true;
     } else if (past > 0) {
       for (std::size_t i = 0; i < n_built; ++i) {
-        if (!pastMargin(i)) continue;
+        if (!is_past[i]) continue;
         reseated.push_back(static_cast<int>(i));
         x_built[i] = x[i] - shiftOf(i);
         r_built[i] = r[i];

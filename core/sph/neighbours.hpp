@@ -122,7 +122,8 @@ class NeighbourSearch {
     std::size_t pairs_added = 0;  ///< candidate pairs added by pairAgain since the build
     // Scratch kept between steps (a fresh allocation of this size faults its pages in anew):
     NeighbourList merged;                   ///< pairAgain's merged rows, swapped with candidates
-    std::vector<std::vector<double>> comp;  ///< update's displacements, by group
+    std::vector<std::vector<double>> comp;  ///< update's sampled displacements, by group and axis
+    std::vector<char> is_past;              ///< update's particles past their margin
     /// Whether the candidates must be built afresh (then the built state is taken from x,
     /// r and body); otherwise appended particles are added to the built state, and a few
     /// particles past their margin (up to 1 in kReseatShare) are re-seated (`reseated`).
