@@ -70,6 +70,19 @@ void requireVerletIsFresh(NeighbourSearch& search, const std::vector<Vec3>& x,
   REQUIRE(verlet.index == fresh.index);
 }
 
+/// Every pair i < j of different bodies within h_i + h_j, by brute force: the reference of
+/// crossBodyPairsVerlet with the particles' h as contact radii.
+std::vector<std::pair<int, int>> crossBodyPairsBruteForce(const std::vector<Vec3>& x,
+                                                          const std::vector<double>& h,
+                                                          const std::vector<int>& body) {
+  std::vector<std::pair<int, int>> pairs;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i + 1; j < x.size(); ++j)
+      if (body[i] != body[j] && (x[i] - x[j]).squaredNorm() < (h[i] + h[j]) * (h[i] + h[j]))
+        pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
+  return pairs;
+}
+
 }  // namespace
 
 TEST_CASE("sph kernel: unit integral on a lattice, odd gradient equal to dW/dr",
@@ -251,12 +264,7 @@ TEST_CASE("sph Verlet list pairs particles born into a body flying on together",
       }
     requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
     search.crossBodyPairsVerlet(c.x, c.h, c.body, 0.3, pairs);
-    reference.clear();
-    for (std::size_t i = 0; i < c.x.size(); ++i)
-      for (std::size_t j = i + 1; j < c.x.size(); ++j)
-        if (c.body[i] != c.body[j] &&
-            (c.x[i] - c.x[j]).squaredNorm() < (c.h[i] + c.h[j]) * (c.h[i] + c.h[j]))
-          reference.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    reference = crossBodyPairsBruteForce(c.x, c.h, c.body);
     INFO("call " << k << ": " << pairs.size() << " contact pairs");
     REQUIRE(pairs == reference);
     for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i];
@@ -281,12 +289,7 @@ TEST_CASE("sph Verlet list re-seats a fast particle crossing a cloud: exact, no 
   for (int k = 0; k < calls; ++k) {
     requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
     search.crossBodyPairsVerlet(c.x, c.h, c.body, 0.3, pairs);
-    reference.clear();
-    for (std::size_t i = 0; i < c.x.size(); ++i)
-      for (std::size_t j = i + 1; j < c.x.size(); ++j)
-        if (c.body[i] != c.body[j] &&
-            (c.x[i] - c.x[j]).squaredNorm() < (c.h[i] + c.h[j]) * (c.h[i] + c.h[j]))
-          reference.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    reference = crossBodyPairsBruteForce(c.x, c.h, c.body);
     INFO("call " << k);
     REQUIRE(pairs == reference);
     c.x[0] += Vec3(0.4 * c.h[0], 0, 0);
@@ -339,11 +342,7 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles are born
     search.crossBodyPairsVerlet(x, h, body, 0.3, pairs);
     INFO("call " << k << ": " << x.size() << " particles, " << pairs.size() << " contact pairs, "
                  << search.contactVerletBuilds() << " contact builds");
-    reference.clear();
-    for (std::size_t i = 0; i < x.size(); ++i)
-      for (std::size_t j = i + 1; j < x.size(); ++j)
-        if (body[i] != body[j] && (x[i] - x[j]).squaredNorm() < (h[i] + h[j]) * (h[i] + h[j]))
-          reference.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    reference = crossBodyPairsBruteForce(x, h, body);
     REQUIRE(reference.size() > x.size());
     REQUIRE(pairs == reference);
     for (std::size_t i = 0; i < x.size(); ++i) x[i] += drift[i], h[i] *= i % 5 == 0 ? 1.005 : 1.0;

@@ -49,6 +49,18 @@ Model twoBars(double plastic_strain) {
   return m;
 }
 
+/// An elastic plate 6 x 6 x 1 mm (12 x 12 x 2 cells), centred on the z axis, its top face
+/// at z = 0, at rest and free.
+Model plateModel() {
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  Placement plate;
+  plate.translation = Vec3(-3e-3, -3e-3, -1e-3);
+  addBody(m, "plate", structuredBox(Vec3::Zero(), Vec3(6e-3, 6e-3, 1e-3), 12, 12, 2), 0, plate,
+          Vec3::Zero(), false);
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("many conversions: a copper bar on a rigid wall keeps mass and the energy budget",
@@ -195,12 +207,7 @@ TEST_CASE("particles fired at a plate stay in front of it", "[verification][conv
   // top face it struck, by more than 5 % of its spacing d = cbrt(V); none passes the plate;
   // momentum conserved (no wall, no fixed node) to 1e-12 of M v0.
   const double s = 0.5e-3, v0 = 300.0;
-  Model m;
-  m.materials.push_back(fesph::testing::elasticMaterial());
-  Placement plate;
-  plate.translation = Vec3(-3e-3, -3e-3, -1e-3);
-  addBody(m, "plate", structuredBox(Vec3::Zero(), Vec3(6e-3, 6e-3, 1e-3), 12, 12, 2), 0, plate,
-          Vec3::Zero(), false);
+  Model m = plateModel();
   std::vector<Vec3> pts;
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
@@ -264,12 +271,7 @@ TEST_CASE("the particle-face sweep gives the same pushes for any thread count",
   // particles that share faces.
 #ifdef _OPENMP
   const double s = 0.25e-3, v0 = 300.0, dt = 1e-7;
-  Model m;
-  m.materials.push_back(fesph::testing::elasticMaterial());
-  Placement plate;
-  plate.translation = Vec3(-3e-3, -3e-3, -1e-3);
-  addBody(m, "plate", structuredBox(Vec3::Zero(), Vec3(6e-3, 6e-3, 1e-3), 12, 12, 2), 0, plate,
-          Vec3::Zero(), false);
+  Model m = plateModel();
   std::vector<Vec3> pts;
   for (const Vec3& centre : {Vec3(-1.5e-3, -1.5e-3, 0), Vec3(1.5e-3, 1.5e-3, 0), Vec3(1.5e-3, -1.5e-3, 0)})
     for (int i = 0; i < 4; ++i)
