@@ -263,6 +263,9 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
   const std::vector<int>& body = v.body_built;
   NeighbourList& c = v.candidates;
   if (c.offset.empty()) c.offset.assign(1, 0);
+  // The rows hold partners below their count: a pair with a particle appended since can
+  // not be listed yet, and only the others are looked up.
+  const int n_listed = static_cast<int>(c.offset.size() - 1);
   c.offset.resize(n + 1, c.offset.back());  // appended particles: empty rows
 
   // One grid of the built positions: per body that has such particles, or one over all (cross).
@@ -313,6 +316,7 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
   std::vector<std::pair<int, int>> add;
   for (const auto& f : found) add.insert(add.end(), f.begin(), f.end());
   const auto holds = [&](const std::pair<int, int>& e) {
+    if (e.first >= n_listed || e.second >= n_listed) return false;
     const auto first = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[e.first]);
     const auto last = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[e.first + 1]);
     return std::binary_search(first, last, e.second);
