@@ -116,9 +116,41 @@ TEST_CASE("sph kernel: unit integral on a lattice, odd gradient equal to dW/dr",
       Vec3 e = Vec3::Zero();
       e[a] = eps;
       const double fd = (kernelW((r + e).norm(), h) - kernelW((r - e).norm(), h)) / (2 * eps);
-      REQUIRE(std::abs(fd - g[a]) <= 1e-6 * (std::abs(kernelDWdrOverR(0, h)) * h + std::abs(g[a])));
+      REQUIRE(std::abs(fd - g[a]) <= 1e-6 * (std::abs(kernelDWdrOverR(0.0, h)) * h + std::abs(g[a])));
     }
   }
+}
+
+TEST_CASE("sph kernel: two lanes give the bits of one by one", "[unit][sph]") {
+  // The particle step evaluates kernelDWdrOverR two pairs at a time (KernelLanes); its results
+  // must not depend on that. Reference: the piecewise formula written out, one value at a
+  // time, with the same operations; exact equality, including r = 0 (the limit -3/(pi h^5)),
+  // the knots q = 1 and q = 2, and beyond the support.
+  const auto piecewise = [](double r, double h) {
+    const double q = r / h;
+    const double norm = 1.0 / (kKernelPi * h * h * h * h * h);
+    if (q < 1.0) return norm * (-3.0 + 2.25 * q);
+    if (q < 2.0) return -norm * 0.75 * (2.0 - q) * (2.0 - q) / q;
+    return 0.0;
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 2.5), hs(0.5e-3, 2e-3);
+  std::vector<std::pair<double, double>> cases;  // (r, h)
+  for (double q : {0.0, 1e-12, 0.5, 1.0, 1.5, 2.0, 2.5}) cases.emplace_back(q * 1e-3, 1e-3);
+  for (int k = 0; k < 1000; ++k) {
+    const double h = hs(rng);
+    cases.emplace_back(u(rng) * h, h);
+  }
+  for (std::size_t k = 0; k + 1 < cases.size(); ++k) {
+    const auto [r0, h0] = cases[k];
+    const auto [r1, h1] = cases[k + 1];
+    const KernelLanes f = kernelDWdrOverR(KernelLanes{r0, r1}, KernelLanes{h0, h1});
+    INFO("r/h " << r0 / h0 << ", " << r1 / h1);
+    REQUIRE(f[0] == piecewise(r0, h0));
+    REQUIRE(f[1] == piecewise(r1, h1));
+    REQUIRE(kernelDWdrOverR(r0, h0) == piecewise(r0, h0));
+  }
+  REQUIRE(kernelDWdrOverR(0.0, 1e-3) == Approx(-3.0 / (kKernelPi * 1e-15)).epsilon(1e-14));
 }
 
 TEST_CASE("sph corrected gradient reproduces a linear velocity field", "[unit][sph]") {
