@@ -106,6 +106,34 @@ void pairGradients(const Particles& pa, std::size_t i, const NeighbourList& nb,
   }
 }
 
+/// A sum of outer products u g^T over a row, entry by entry as Mat3's `M.noalias() += u *
+/// g.transpose()` computes it (M(a,b) + u_a g_b, the terms in row order), so the same bits;
+/// rows 0 and 1 of each column side by side (KernelLanes), two entries per instruction. Two
+/// such sums fit the registers where two Mat3 (18 accumulators) did not.
+struct OuterSum {
+  KernelLanes top[3] = {};  ///< M(0, b) and M(1, b)
+  double bottom[3] = {};    ///< M(2, b)
+  void add(const Vec3& u, const Vec3& g) {
+    const KernelLanes u01 = {u.x(), u.y()};
+    for (int b = 0; b < 3; ++b) {
+      top[b] += u01 * g[b];
+      bottom[b] += u.z() * g[b];
+    }
+  }
+  void subtract(const Vec3& u, const Vec3& g) {
+    const KernelLanes u01 = {u.x(), u.y()};
+    for (int b = 0; b < 3; ++b) {
+      top[b] -= u01 * g[b];
+      bottom[b] -= u.z() * g[b];
+    }
+  }
+  Mat3 matrix() const {
+    Mat3 m;
+    for (int b = 0; b < 3; ++b) m.col(b) = Vec3(top[b][0], top[b][1], bottom[b]);
+    return m;
+  }
+};
+
 /// Pass 1 for particle i: kernel gradients of its pairs, correction B_i and velocity gradient
 /// L_i = sum_j V_j (v_j - v_i) (x) (B_i grad W_ij), exact for linear velocity fields; and the
 /// same gradient of v^{n-1/2} over the last step's configuration (the exact dual of the last
@@ -118,18 +146,14 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   cur.v[i] = pa.v[i];
   cur.h[i] = pa.h[i];
   cur.V[i] = pa.V[i];
-  // A and G in two walks over the row: one walk keeping both sums (18 accumulators) ran out
-  // of registers. Each sum takes its terms in row order either way.
-  Mat3 A = Mat3::Zero(), G = Mat3::Zero();
   pairGradients(pa, i, nb, ws.pair_grad);
+  OuterSum A_sum, G_sum;
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const int j = nb.index[k];
-    A.noalias() -= (pa.V[j] * (pa.x[i] - pa.x[j])) * ws.pair_grad[k].transpose();
+    A_sum.subtract(pa.V[j] * (pa.x[i] - pa.x[j]), ws.pair_grad[k]);
+    G_sum.add(pa.V[j] * (pa.v[j] - pa.v[i]), ws.pair_grad[k]);
   }
-  for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
-    const int j = nb.index[k];
-    G.noalias() += (pa.V[j] * (pa.v[j] - pa.v[i])) * ws.pair_grad[k].transpose();
-  }
+  Mat3 A = A_sum.matrix(), G = G_sum.matrix();
   // The mirror images of the particles near a symmetry plane are neighbours as the other
   // half's particles are in the full model: the same sums with x_j, v_j reflected.
   for (MirrorImage& mi : ws.mirrors) {
@@ -165,7 +189,7 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   const NeighbourList& last = ws.neighbours_last;
   std::size_t kl = 0, kl_end = 0;
   if (i + 1 < last.offset.size()) kl = last.offset[i], kl_end = last.offset[i + 1];
-  Mat3 Gp = Mat3::Zero();
+  OuterSum Gp_sum;
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
     ws.pair_last_slot[k] = SphWorkspace::kNoLastPair;
@@ -174,8 +198,9 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
     const bool in_last = kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j;
     if (in_last) ws.pair_last_slot[k] = static_cast<std::uint32_t>(kl);
     const Vec3 g = in_last ? ws.pair_grad_last[kl] : previousGradient(prev, i, j);
-    Gp.noalias() += (prev.V[j] * (pa.v[j] - pa.v[i])) * g.transpose();
+    Gp_sum.add(prev.V[j] * (pa.v[j] - pa.v[i]), g);
   }
+  Mat3 Gp = Gp_sum.matrix();
   for (MirrorImage& mi : ws.mirrors) {  // few pairs: computed again, not looked up
     const NeighbourList& ml = mi.neighbours;
     for (std::size_t k = ml.offset[i]; k < ml.offset[i + 1]; ++k) {
