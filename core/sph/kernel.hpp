@@ -3,6 +3,7 @@
 // gradient. The one kernel of the SPH layer.
 #pragma once
 
+#include "core/common/lanes.hpp"
 #include "core/common/types.hpp"
 
 namespace fesph {
@@ -28,7 +29,7 @@ inline double kernelW(double r, double h) {
 
 /// dW/dr divided by r (1/m^5): the gradient is this factor times the separation vector, and
 /// the division is exact at r = 0 (the limit is -3/(pi h^5)), so no special case is needed.
-/// T is double, or a GCC vector of doubles (KernelLanes) evaluated lane by lane with the same
+/// T is double, or two doubles side by side (Lanes2) evaluated lane by lane with the same
 /// arithmetic, so the same bits: both pieces are computed and one is selected (the outer
 /// piece's 0/0 at r = 0 never is).
 template <class T>
@@ -40,10 +41,6 @@ inline T kernelDWdrOverR(T r, T h) {
   const T outer = -norm * 0.75 * t * t / q;
   return q < 1.0 ? inner : q < 2.0 ? outer : T{};
 }
-
-/// Two doubles side by side: kernelDWdrOverR on two pairs at once takes one instruction per
-/// division and square root (SSE2) where the pairs one by one take two.
-using KernelLanes = double __attribute__((vector_size(16)));
 
 /// grad_i W(|x_i - x_j|, h) for r_ij = x_i - x_j (1/m^4). Odd: grad W_ji = -grad W_ij.
 inline Vec3 kernelGradient(const Vec3& r_ij, double h) {

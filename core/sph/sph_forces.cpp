@@ -6,6 +6,7 @@
 #include "core/sph/sph_forces.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/lanes.hpp"
 #include "core/sph/kernel.hpp"
 #include "core/sph/sph_workspace.hpp"
 
@@ -98,41 +99,13 @@ void pairGradients(const Particles& pa, std::size_t i, const NeighbourList& nb,
     const std::size_t k1 = std::min(k + 1, end - 1);  // an odd row's last pair fills both lanes
     const int j0 = nb.index[k], j1 = nb.index[k1];
     const Vec3 r0 = pa.x[i] - pa.x[j0], r1 = pa.x[i] - pa.x[j1];
-    const KernelLanes r = {r0.norm(), r1.norm()};
-    const KernelLanes h = {0.5 * (pa.h[i] + pa.h[j0]), 0.5 * (pa.h[i] + pa.h[j1])};
-    const KernelLanes f = kernelDWdrOverR(r, h);
+    const Lanes2 r = {r0.norm(), r1.norm()};
+    const Lanes2 h = {0.5 * (pa.h[i] + pa.h[j0]), 0.5 * (pa.h[i] + pa.h[j1])};
+    const Lanes2 f = kernelDWdrOverR(r, h);
     grad[k] = f[0] * r0;
     grad[k1] = f[1] * r1;
   }
 }
-
-/// A sum of outer products u g^T over a row, entry by entry as Mat3's `M.noalias() += u *
-/// g.transpose()` computes it (M(a,b) + u_a g_b, the terms in row order), so the same bits;
-/// rows 0 and 1 of each column side by side (KernelLanes), two entries per instruction. Two
-/// such sums fit the registers where two Mat3 (18 accumulators) did not.
-struct OuterSum {
-  KernelLanes top[3] = {};  ///< M(0, b) and M(1, b)
-  double bottom[3] = {};    ///< M(2, b)
-  void add(const Vec3& u, const Vec3& g) {
-    const KernelLanes u01 = {u.x(), u.y()};
-    for (int b = 0; b < 3; ++b) {
-      top[b] += u01 * g[b];
-      bottom[b] += u.z() * g[b];
-    }
-  }
-  void subtract(const Vec3& u, const Vec3& g) {
-    const KernelLanes u01 = {u.x(), u.y()};
-    for (int b = 0; b < 3; ++b) {
-      top[b] -= u01 * g[b];
-      bottom[b] -= u.z() * g[b];
-    }
-  }
-  Mat3 matrix() const {
-    Mat3 m;
-    for (int b = 0; b < 3; ++b) m.col(b) = Vec3(top[b][0], top[b][1], bottom[b]);
-    return m;
-  }
-};
 
 /// Pass 1 for particle i: kernel gradients of its pairs, correction B_i and velocity gradient
 /// L_i = sum_j V_j (v_j - v_i) (x) (B_i grad W_ij), exact for linear velocity fields; and the

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // SPH layer: kernel, corrected gradient, neighbour search, conservation of momentum and
 // energy, thread-count independence, and the particle-particle contact.
+#include "core/common/lanes.hpp"
 #include "core/solver/step.hpp"
 #include "core/sph/kernel.hpp"
 #include "core/sph/neighbours.hpp"
@@ -122,7 +123,7 @@ TEST_CASE("sph kernel: unit integral on a lattice, odd gradient equal to dW/dr",
 }
 
 TEST_CASE("sph kernel: two lanes give the bits of one by one", "[unit][sph]") {
-  // The particle step evaluates kernelDWdrOverR two pairs at a time (KernelLanes); its results
+  // The particle step evaluates kernelDWdrOverR two pairs at a time (Lanes2); its results
   // must not depend on that. Reference: the piecewise formula written out, one value at a
   // time, with the same operations; exact equality, including r = 0 (the limit -3/(pi h^5)),
   // the knots q = 1 and q = 2, and beyond the support.
@@ -144,13 +145,43 @@ TEST_CASE("sph kernel: two lanes give the bits of one by one", "[unit][sph]") {
   for (std::size_t k = 0; k + 1 < cases.size(); ++k) {
     const auto [r0, h0] = cases[k];
     const auto [r1, h1] = cases[k + 1];
-    const KernelLanes f = kernelDWdrOverR(KernelLanes{r0, r1}, KernelLanes{h0, h1});
+    const Lanes2 f = kernelDWdrOverR(Lanes2{r0, r1}, Lanes2{h0, h1});
     INFO("r/h " << r0 / h0 << ", " << r1 / h1);
     REQUIRE(f[0] == piecewise(r0, h0));
     REQUIRE(f[1] == piecewise(r1, h1));
     REQUIRE(kernelDWdrOverR(r0, h0) == piecewise(r0, h0));
   }
   REQUIRE(kernelDWdrOverR(0.0, 1e-3) == Approx(-3.0 / (kKernelPi * 1e-15)).epsilon(1e-14));
+}
+
+TEST_CASE("sph kinematics' outer-product sums give Eigen's bits", "[unit][sph]") {
+  // The kinematics sums u g^T over a row with OuterSum (rows 0-1 side by side); its results
+  // must be those of Mat3's own product. Reference: M.noalias() += / -= u * g.transpose(),
+  // terms in the same order; exact equality of every entry, for sums of 1 to 60 terms of
+  // random sign and magnitude.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), scale(-6.0, 6.0);
+  const auto draw = [&] {
+    const double x = u(rng), y = u(rng), z = u(rng), m = std::pow(10.0, scale(rng));
+    return Vec3(m * x, m * y, m * z);
+  };
+  for (int terms = 1; terms <= 60; ++terms) {
+    OuterSum added, subtracted;
+    Mat3 M_added = Mat3::Zero(), M_subtracted = Mat3::Zero();
+    for (int t = 0; t < terms; ++t) {
+      const Vec3 a = draw(), b = draw();
+      added.add(a, b);
+      M_added.noalias() += a * b.transpose();
+      subtracted.subtract(a, b);
+      M_subtracted.noalias() -= a * b.transpose();
+    }
+    INFO(terms << " terms");
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        REQUIRE(added.matrix()(r, c) == M_added(r, c));
+        REQUIRE(subtracted.matrix()(r, c) == M_subtracted(r, c));
+      }
+  }
 }
 
 TEST_CASE("sph corrected gradient reproduces a linear velocity field", "[unit][sph]") {
