@@ -8,8 +8,8 @@
 
 namespace fesph {
 
-/// Two doubles side by side (a GCC vector: SSE2 registers on x86-64, lowered to scalars
-/// elsewhere): +, -, *, / and comparisons act lane by lane with the scalar operations' bits.
+/// Two doubles side by side (a GCC vector: one SSE2 register on x86-64): +, -, *, / and
+/// comparisons act lane by lane with the scalar operations' bits.
 using Lanes2 = double __attribute__((vector_size(16)));
 
 /// A sum of outer products u g^T, entry by entry as Mat3's `M.noalias() += u * g.transpose()`

@@ -263,8 +263,8 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
   const std::vector<int>& body = v.body_built;
   NeighbourList& c = v.candidates;
   if (c.offset.empty()) c.offset.assign(1, 0);
-  // The rows hold partners below their count: a pair with a particle appended since can
-  // not be listed yet, and only the others are looked up.
+  // The rows list only partners below their own count: a pair with a particle appended since
+  // cannot be listed yet, so only pairs of two older particles are looked up below.
   const int n_listed = static_cast<int>(c.offset.size() - 1);
   c.offset.resize(n + 1, c.offset.back());  // appended particles: empty rows
 

@@ -90,8 +90,8 @@ std::size_t neighbourCount(const SphWorkspace& ws, std::size_t i) {
 
 /// grad_i W_ij of row i's pairs into `grad`, two pairs at a time: kernelGradient's arithmetic
 /// lane by lane, so the same bits, with one instruction for two pairs' square roots and
-/// divisions. Apart from the sums over them, which then run without those long chains in
-/// between: 6-8 % off the particle step (docs/performance.md, twentieth session).
+/// divisions. Computed apart from the sums over them, which then run without those long
+/// chains in between: 5-10 % off the SPH step (docs/performance.md, twentieth session).
 void pairGradients(const Particles& pa, std::size_t i, const NeighbourList& nb,
                    std::vector<Vec3>& grad) {
   const std::size_t end = nb.offset[i + 1];
