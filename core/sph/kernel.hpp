@@ -3,7 +3,6 @@
 // gradient. The one kernel of the SPH layer.
 #pragma once
 
-#include "core/common/lanes.hpp"
 #include "core/common/types.hpp"
 
 namespace fesph {
