@@ -19,18 +19,30 @@ constexpr std::size_t kShiftSamples = 256;
 /// Compressed rows built in parallel without atomics: each thread takes one contiguous block
 /// of rows, collects them in its own buffer, and copies the buffer to its place once the
 /// row lengths are known. The result is the same for any number of threads.
-/// collect(i, buf) appends row i (already in its final order) to buf.
+/// collect(i, buf) appends row i (already in its final order) to buf. `work`, if given
+/// (size n + 1, non-decreasing from 0), is the work before each row: the blocks then take
+/// equal shares of it instead of equal numbers of rows (rows of unequal cost: a thread
+/// with the cheap ones waited for the other through a third of the Verlet filter).
 template <class Collect>
 void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::vector<int>>>& thread_buf,
-               std::vector<std::size_t>& count, NeighbourList& out) {
+               std::vector<std::size_t>& count, NeighbourList& out,
+               const std::vector<std::size_t>* work = nullptr) {
   thread_buf.resize(static_cast<std::size_t>(maxThreads()));
   count.assign(n, 0);
   out.offset.assign(n + 1, 0);
+  // First row of block t of nt: the first row with at least its share of the work before it.
+  const auto blockStart = [&](std::size_t t, std::size_t nt) -> std::size_t {
+    if (!work || t == 0 || t == nt) return n * t / nt;
+    const std::size_t share = (*work)[n] / nt * t + (*work)[n] % nt * t / nt;
+    return static_cast<std::size_t>(std::lower_bound(work->begin(), work->begin() +
+                                                     static_cast<std::ptrdiff_t>(n), share) -
+                                    work->begin());
+  };
 #pragma omp parallel
   {
     const std::size_t nt = static_cast<std::size_t>(teamSize());
     const std::size_t t = static_cast<std::size_t>(threadId());
-    const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
+    const std::size_t begin = blockStart(t, nt), end = blockStart(t + 1, nt);
     std::vector<int>& buf = thread_buf[t].items;
     buf.clear();
     for (std::size_t i = begin; i < end; ++i) {
@@ -63,7 +75,7 @@ void filterCandidates(const std::vector<Vec3>& x, const std::vector<double>& r,
           if ((x[i] - x[j]).squaredNorm() < reach * reach) buf.push_back(j);
         }
       },
-      thread_buf, count, out);
+      thread_buf, count, out, &cand.offset);
 }
 
 }  // namespace
@@ -447,8 +459,11 @@ void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<d
     return true;
   };
   mirror_ids_.clear();
-  for (std::size_t i = 0; i < n; ++i)
+  mirror_work_.assign(n + 1, 0);  // the rows near the planes before each row: their work
+  for (std::size_t i = 0; i < n; ++i) {
     if (near_planes(i)) mirror_ids_.push_back(static_cast<int>(i));
+    mirror_work_[i + 1] = mirror_ids_.size();
+  }
   if (mirror_ids_.empty() || !(r_max > 0)) {
     out.offset.assign(n + 1, 0);
     out.index.clear();
@@ -469,7 +484,7 @@ void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<d
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
-      thread_index_, count_, out);
+      thread_index_, count_, out, &mirror_work_);
 }
 
 void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,

@@ -145,6 +145,7 @@ class NeighbourSearch {
   std::vector<CellGrid> grids_;
   CellGrid mirror_grid_;                            ///< points near the symmetry planes
   std::vector<int> mirror_ids_;
+  std::vector<std::size_t> mirror_work_;            ///< mirrorRows' rows near the planes, prefix
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
   std::vector<ThreadBuffer<std::vector<int>>> thread_index_;  ///< per-thread neighbour ids
   std::vector<std::size_t> count_;
