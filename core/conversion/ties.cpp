@@ -41,8 +41,10 @@ void tieToExposedFace(Model& model, std::size_t p, std::size_t e) {
 
 long releaseTies(Model& model) {
   Particles& pa = model.particles;
+  const long np = static_cast<long>(pa.size());
   long released = 0;
-  for (std::size_t p = 0; p < pa.size(); ++p) {
+#pragma omp parallel for schedule(static) reduction(+ : released) if (np > 32)
+  for (long p = 0; p < np; ++p) {
     Tie& t = pa.tie[p];
     if (!t.active()) continue;
     const int f = findFace(model.surfaces, t.face[0], t.face[1], t.face[2]);
