@@ -62,6 +62,11 @@ struct FaceGrid {
 // enough that the determinism test's few dozen particles split over the threads.
 constexpr long kParallelMin = 32;
 
+// Contiguous blocks of n items that the threads take as they come (items of unequal work),
+// results joined in block order: as many for any thread count, so the same result.
+// At least 16 items a block, so that the determinism test's few dozen make several.
+long blockCount(long n) { return std::clamp((n + 15) / 16, 1L, 64L); }
+
 // The occupied cell keys, sorted, with a bitmap of their low bits in front: most cells a face
 // box touches hold no particle, and one bit test answers that without the binary search.
 class KeySet {
@@ -118,19 +123,22 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
     untied[p] = !pa.tie[p].active();
     if (untied[p]) cell_of[p] = g.keyOf(pa.x[p] + dt * pa.v[p]);
   }
+  // Particles in spatial order (renumbered along a Morton curve) share cells with their
+  // predecessors: a repeat of the last key is left out before the sort, not after it.
   std::vector<std::int64_t> keys;
   for (long p = 0; p < np; ++p)
-    if (untied[p]) keys.push_back(cell_of[p]);
+    if (untied[p] && (keys.empty() || keys.back() != cell_of[p])) keys.push_back(cell_of[p]);
   const KeySet occupied(std::move(keys));
 
-  std::vector<ThreadBuffer<std::vector<std::pair<int, int>>>> parts;  // (rank of the cell's key, face)
-#pragma omp parallel if (nf > kParallelMin)
-  {
-#pragma omp single
-    parts.resize(static_cast<std::size_t>(teamSize()));
-    std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(threadId())].items;
-#pragma omp for schedule(static)
-    for (long k = 0; k < nf; ++k) {
+  // (rank of the cell's key, face) by block of faces: the blocks' work differs (faces far from
+  // every particle cost a box, faces near many a look-up per cell), so the threads take them
+  // as they come, and the blocks are joined in order.
+  const long nb = blockCount(nf);
+  std::vector<ThreadBuffer<std::vector<std::pair<int, int>>>> parts(static_cast<std::size_t>(nb));
+#pragma omp parallel for schedule(dynamic, 1) if (nf > kParallelMin)
+  for (long b = 0; b < nb; ++b) {
+    std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(b)].items;
+    for (long k = nf * b / nb; k < nf * (b + 1) / nb; ++k) {
       Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
       for (int a : faces[k].node) {
         lo = lo.cwiseMin(nd.x[a]).cwiseMin(nd.x[a] + dt * nd.v[a]);
@@ -149,7 +157,7 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
           }
     }
   }
-  // Counting sort by key: the parts hold ascending faces in thread order, so each key's run
+  // Counting sort by key: the parts hold ascending faces in block order, so each key's run
   // comes out in ascending face order, as a sort of (key, face) would give it.
   std::vector<std::size_t> fill(occupied.size() + 1, 0);
   for (const auto& part : parts)
@@ -289,21 +297,26 @@ SweepGroups sweepGroups(const Model& model, const std::vector<int>& candidates,
       else
         joined.join(static_cast<int>(s), slot_at[a]);
     }
-  std::vector<std::pair<int, long>> root_of;  // (root slot, candidate)
-  root_of.reserve(candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     const std::size_t p = static_cast<std::size_t>(candidates[c]);
     const int anchor = viable[offset[p]].slot;
     for (std::size_t v = offset[p] + 1; v < offset[p + 1]; ++v) joined.join(viable[v].slot, anchor);
   }
-  for (std::size_t c = 0; c < candidates.size(); ++c)
-    root_of.emplace_back(joined.find(viable[offset[candidates[c]]].slot), static_cast<long>(c));
-  std::sort(root_of.begin(), root_of.end());
-  for (std::size_t m = 0; m < root_of.size(); ++m) {
-    if (m == 0 || root_of[m].first != root_of[m - 1].first) g.start.push_back(m);
-    g.members.push_back(root_of[m].second);
+  // Groups by root slot, ascending, members ascending: a counting sort by root.
+  std::vector<int> root_of(candidates.size());
+  std::vector<std::size_t> fill(slot_face.size() + 1, 0);
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    root_of[c] = joined.find(viable[offset[candidates[c]]].slot);
+    ++fill[static_cast<std::size_t>(root_of[c]) + 1];
   }
-  g.start.push_back(root_of.size());
+  for (std::size_t s = 0; s < slot_face.size(); ++s) {
+    if (fill[s + 1] > 0) g.start.push_back(fill[s]);
+    fill[s + 1] += fill[s];
+  }
+  g.start.push_back(candidates.size());
+  g.members.resize(candidates.size());
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    g.members[fill[static_cast<std::size_t>(root_of[c])]++] = static_cast<long>(c);
   g.order.resize(g.start.size() - 1);
   std::iota(g.order.begin(), g.order.end(), std::size_t{0});
   std::stable_sort(g.order.begin(), g.order.end(), [&](std::size_t a, std::size_t b) {
@@ -330,18 +343,16 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   const FaceGrid grid = buildGrid(model, dt, reach);
 
   // The grid cell of a particle is the one of its predicted position before the passes (the
-  // corrections are far smaller than a cell), so its viable faces are found once: each thread
-  // collects a contiguous block of particles, the blocks are joined in particle order.
+  // corrections are far smaller than a cell), so its viable faces are found once, by blocks
+  // of particles joined in particle order.
   std::vector<std::size_t> offset(pa.size() + 1, 0);
   std::vector<Viable> viable;
-  std::vector<ThreadBuffer<std::vector<Viable>>> parts;
-#pragma omp parallel if (np > kParallelMin)
-  {
-#pragma omp single
-    parts.resize(static_cast<std::size_t>(teamSize()));
-    const long nt = teamSize(), t = threadId();
-    std::vector<Viable>& mine = parts[static_cast<std::size_t>(t)].items;
-    for (long p = np * t / nt; p < np * (t + 1) / nt; ++p) {
+  const long nb = blockCount(np);  // tied particles take no time: blocks, not halves
+  std::vector<ThreadBuffer<std::vector<Viable>>> parts(static_cast<std::size_t>(nb));
+#pragma omp parallel for schedule(dynamic, 1) if (np > kParallelMin)
+  for (long b = 0; b < nb; ++b) {
+    std::vector<Viable>& mine = parts[static_cast<std::size_t>(b)].items;
+    for (long p = np * b / nb; p < np * (b + 1) / nb; ++p) {
       const std::size_t before = mine.size();
       if (!pa.tie[p].active())
         viableFaces(model, static_cast<std::size_t>(p), radius[p], grid,
@@ -412,14 +423,25 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // groups, so the result is that sweep's bit for bit, for any thread count.
   const SweepGroups groups = sweepGroups(model, candidates, offset, viable, slot_face);
   const long ng = static_cast<long>(groups.order.size());
+  // Candidate t of nt threads' first one: the blocks hold equal numbers of viable faces (what a
+  // hit costs). Fixed blocks, not a dynamic schedule: small chunks handed out in turn cost an
+  // atomic each and shared the cache lines of hits and stamps at every chunk's edge (the first
+  // pass's hits took as long on two threads as on one).
+  const auto hitBlock = [&](long t, long nt) -> long {
+    if (t == 0 || t == nt) return t == 0 ? 0 : nc;
+    const std::size_t share = viable.size() * static_cast<std::size_t>(t) / static_cast<std::size_t>(nt);
+    return std::lower_bound(candidates.begin(), candidates.end(), share,
+                            [&](int p, std::size_t v) { return offset[p] < v; }) -
+           candidates.begin();
+  };
   for (int k = 1; k <= passes; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
 #pragma omp parallel if (nc > kParallelMin)
     {
 #pragma omp for schedule(static)
       for (long s = 0; s < ns; ++s) renewEnd(s, pushes);
-#pragma omp for schedule(dynamic, 8)
-      for (long c = 0; c < nc; ++c) renewHit(c, pushes);
+      const long nt = teamSize(), t = threadId();
+      for (long c = hitBlock(t, nt); c < hitBlock(t + 1, nt); ++c) renewHit(c, pushes);
     }
     const long pushes_before = pushes;
     long pushed = 0;
