@@ -52,16 +52,6 @@ inline bool projectOnFace(const Vec3& p, const Vec3& a, const Vec3& b, const Vec
   return true;
 }
 
-/// The signed distance of p from the plane of triangle (a, b, c) alone, as projectOnFace
-/// takes it. Returns false for a degenerate triangle.
-inline bool distanceToFace(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
-                           double& distance) {
-  const FacePlane f = facePlane(a, b, c);
-  if (!f.valid()) return false;
-  distance = (p - a).dot(f.normal);
-  return true;
-}
-
 /// Nearest point of the triangle's barycentric range to `w`: clamp and renormalise.
 inline Vec3 clampBary(Vec3 w) {
   w = w.cwiseMax(0.0);

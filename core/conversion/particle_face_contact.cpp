@@ -35,6 +35,11 @@ struct FaceGrid {
   /// contiguous run in ascending face order. Keys may collide (a hash): a collision only adds
   /// candidates.
   std::vector<std::pair<std::int64_t, int>> entries;
+  /// Unit normal of each face with entries at the start of the step, its first node's
+  /// position a point of it (FacePlane's, computed once per face instead of once per particle
+  /// tested against it); valid[k] == 0: degenerate, or no entries.
+  std::vector<Vec3> normal;
+  std::vector<char> valid;
 
   // Unsigned arithmetic: the hash wraps instead of overflowing (undefined behaviour) for
   // far or non-finite positions, which the solver's non-finite check reports after the step.
@@ -44,10 +49,9 @@ struct FaceGrid {
                             (static_cast<std::uint64_t>(k) * 83492791u);
     return static_cast<std::int64_t>(h);
   }
-  std::int64_t keyOf(const Vec3& p) const {
-    return key(std::lround(std::floor(p.x() / cell)), std::lround(std::floor(p.y() / cell)),
-               std::lround(std::floor(p.z() / cell)));
-  }
+  /// The index of the cell along an axis that holds coordinate c.
+  long index(double c) const { return std::lround(std::floor(c / cell)); }
+  std::int64_t keyOf(const Vec3& p) const { return key(index(p.x()), index(p.y()), index(p.z())); }
   /// The faces entered in cell `k`, as [first, last) into `entries`.
   std::pair<const std::pair<std::int64_t, int>*, const std::pair<std::int64_t, int>*> faces(
       std::int64_t k) const {
@@ -118,10 +122,20 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   g.cell = std::max(std::sqrt(longest_sq[longest_sq.size() / 2]), 2 * reach);
   std::vector<std::int64_t> cell_of(pa.size());
   std::vector<char> untied(pa.size());
-#pragma omp parallel for schedule(static) if (np > kParallelMin)
+  // The range of the occupied cells' indices: a face's box is searched only where it
+  // overlaps it (most of a plate's faces are far from every particle, and skip at once).
+  long i_min = LONG_MAX, j_min = LONG_MAX, k_min = LONG_MAX;
+  long i_max = LONG_MIN, j_max = LONG_MIN, k_max = LONG_MIN;
+#pragma omp parallel for schedule(static) if (np > kParallelMin) \
+    reduction(min : i_min, j_min, k_min) reduction(max : i_max, j_max, k_max)
   for (long p = 0; p < np; ++p) {
     untied[p] = !pa.tie[p].active();
-    if (untied[p]) cell_of[p] = g.keyOf(pa.x[p] + dt * pa.v[p]);
+    if (!untied[p]) continue;
+    const Vec3 y = pa.x[p] + dt * pa.v[p];
+    const long i = g.index(y.x()), j = g.index(y.y()), k = g.index(y.z());
+    cell_of[p] = FaceGrid::key(i, j, k);
+    i_min = std::min(i_min, i), j_min = std::min(j_min, j), k_min = std::min(k_min, k);
+    i_max = std::max(i_max, i), j_max = std::max(j_max, j), k_max = std::max(k_max, k);
   }
   // Particles in spatial order (renumbered along a Morton curve) share cells with their
   // predecessors: a repeat of the last key is left out before the sort, not after it.
@@ -135,6 +149,8 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   // as they come, and the blocks are joined in order.
   const long nb = blockCount(nf);
   std::vector<ThreadBuffer<std::vector<std::pair<int, int>>>> parts(static_cast<std::size_t>(nb));
+  g.normal.resize(faces.size());
+  g.valid.resize(faces.size());
 #pragma omp parallel for schedule(dynamic, 1) if (nf > kParallelMin)
   for (long b = 0; b < nb; ++b) {
     std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(b)].items;
@@ -146,15 +162,21 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
       }
       lo.array() -= reach;
       hi.array() += reach;
-      const long i0 = std::lround(std::floor(lo.x() / g.cell)), i1 = std::lround(std::floor(hi.x() / g.cell));
-      const long j0 = std::lround(std::floor(lo.y() / g.cell)), j1 = std::lround(std::floor(hi.y() / g.cell));
-      const long k0 = std::lround(std::floor(lo.z() / g.cell)), k1 = std::lround(std::floor(hi.z() / g.cell));
+      const long i0 = std::max(g.index(lo.x()), i_min), i1 = std::min(g.index(hi.x()), i_max);
+      const long j0 = std::max(g.index(lo.y()), j_min), j1 = std::min(g.index(hi.y()), j_max);
+      const long k0 = std::max(g.index(lo.z()), k_min), k1 = std::min(g.index(hi.z()), k_max);
       for (long i = i0; i <= i1; ++i)
         for (long j = j0; j <= j1; ++j)
           for (long l = k0; l <= k1; ++l) {
             const int rank = occupied.rank(FaceGrid::key(i, j, l));
             if (rank >= 0) mine.emplace_back(rank, static_cast<int>(k));
           }
+      g.valid[k] = 0;
+      if (mine.empty() || mine.back().second != static_cast<int>(k)) continue;
+      const FacePlane plane = facePlane(nd.x[faces[k].node[0]], nd.x[faces[k].node[1]],
+                                        nd.x[faces[k].node[2]]);
+      g.valid[k] = plane.valid() ? 1 : 0;
+      g.normal[k] = plane.normal;
     }
   }
   // Counting sort by key: the parts hold ascending faces in block order, so each key's run
@@ -216,10 +238,9 @@ void viableFaces(const Model& model, std::size_t p, double radius, const FaceGri
   for (auto e = first; e != last; ++e) {
     const int k = e->second;
     const ExteriorFace& f = faces[k];
-    double distance = 0;
-    if (distanceToFace(x, nd.x[f.node[0]], nd.x[f.node[1]], nd.x[f.node[2]], distance) &&
-        distance >= -radius)
-      out.push_back({k, distance, -1});
+    if (!grid.valid[k]) continue;  // degenerate
+    const double distance = (x - nd.x[f.node[0]]).dot(grid.normal[k]);
+    if (distance >= -radius) out.push_back({k, distance, -1});
   }
 }
 
