@@ -303,7 +303,15 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
     if (needed[g]) grids_[g].build(v.x_built, ids_[g], 2.0 * r_max[g]);
 
   // The fresh search's test on the built positions. A pair goes to the rows of both partners
-  // (same body) or of the lower one (cross); a pair of two such particles is found once.
+  // (same body) or of the lower one (cross); a pair of two such particles is found once. Only
+  // the pairs the rows lack are kept, looked up here in parallel (the rows do not change until
+  // the merge below).
+  const auto lacks = [&](int row, int partner) {
+    if (row >= n_listed || partner >= n_listed) return true;
+    const auto first = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[row]);
+    const auto last = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[row + 1]);
+    return !std::binary_search(first, last, partner);
+  };
   const long na = static_cast<long>(again.size());
   std::vector<std::vector<std::pair<int, int>>> found(again.size());  // (row, partner)
 #pragma omp parallel for schedule(dynamic, 16) if (na > 64)
@@ -318,45 +326,45 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
       const double reach = ri + v.r_wide[js];
       if (!((xi - v.x_built[js]).squaredNorm() < reach * reach)) return;
       if (cross) {
-        found[k].emplace_back(std::min(i, j), std::max(i, j));
+        if (lacks(std::min(i, j), std::max(i, j))) found[k].emplace_back(std::min(i, j), std::max(i, j));
       } else {
-        found[k].emplace_back(i, j);
-        found[k].emplace_back(j, i);
+        if (lacks(i, j)) found[k].emplace_back(i, j);
+        if (lacks(j, i)) found[k].emplace_back(j, i);
       }
     });
   }
-  std::vector<std::pair<int, int>> add;
-  for (const auto& f : found) add.insert(add.end(), f.begin(), f.end());
-  const auto holds = [&](const std::pair<int, int>& e) {
-    if (e.first >= n_listed || e.second >= n_listed) return false;
-    const auto first = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[e.first]);
-    const auto last = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[e.first + 1]);
-    return std::binary_search(first, last, e.second);
-  };
-  add.erase(std::remove_if(add.begin(), add.end(), holds), add.end());
-  if (add.empty()) return;
-  std::sort(add.begin(), add.end());
-  v.pairs_added += add.size();
 
-  // Merge them into the rows, which stay ascending as a fresh build gives them.
+  // The additions by row (a counting sort), then each row merged with its own, ascending as a
+  // fresh build gives them; the rows in parallel, each alone.
+  std::vector<std::size_t>& add_offset = v.add_offset;
+  add_offset.assign(n + 1, 0);
+  for (const auto& f : found)
+    for (const auto& e : f) ++add_offset[static_cast<std::size_t>(e.first) + 1];
+  for (std::size_t i = 0; i < n; ++i) add_offset[i + 1] += add_offset[i];
+  if (add_offset[n] == 0) return;
+  v.pairs_added += add_offset[n];
+  std::vector<int>& add = v.add;
+  add.resize(add_offset[n]);
+  {
+    std::vector<std::size_t> fill(add_offset.begin(), add_offset.end() - 1);
+    for (const auto& f : found)
+      for (const auto& [row, partner] : f) add[fill[static_cast<std::size_t>(row)]++] = partner;
+  }
   std::vector<std::size_t>& offset = v.merged.offset;
   std::vector<int>& index = v.merged.index;
-  offset.assign(n + 1, 0);
-  for (const auto& e : add) ++offset[static_cast<std::size_t>(e.first) + 1];
-  for (std::size_t i = 0; i < n; ++i) offset[i + 1] += offset[i] + (c.offset[i + 1] - c.offset[i]);
+  offset.resize(n + 1);
+  for (std::size_t i = 0; i <= n; ++i) offset[i] = c.offset[i] + add_offset[i];
   index.resize(offset[n]);
-  auto next = add.begin();
-  for (std::size_t i = 0; i < n; ++i) {
-    auto out = index.begin() + static_cast<std::ptrdiff_t>(offset[i]);
-    auto from = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[i]);
-    const auto last = c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[i + 1]);
-    for (; next != add.end() && next->first == static_cast<int>(i); ++next) {
-      const auto upto = std::upper_bound(from, last, next->second);
-      out = std::copy(from, upto, out);
-      from = upto;
-      *out++ = next->second;
-    }
-    std::copy(from, last, out);
+  const long rows = static_cast<long>(n);
+#pragma omp parallel for schedule(static)
+  for (long r = 0; r < rows; ++r) {
+    const std::size_t i = static_cast<std::size_t>(r);
+    const auto add_first = add.begin() + static_cast<std::ptrdiff_t>(add_offset[i]);
+    const auto add_last = add.begin() + static_cast<std::ptrdiff_t>(add_offset[i + 1]);
+    std::sort(add_first, add_last);
+    std::merge(c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[i]),
+               c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[i + 1]), add_first, add_last,
+               index.begin() + static_cast<std::ptrdiff_t>(offset[i]));
   }
   c.offset.swap(offset);
   c.index.swap(index);

@@ -122,6 +122,8 @@ class NeighbourSearch {
     std::size_t pairs_added = 0;  ///< candidate pairs added by pairAgain since the build
     // Scratch kept between steps (a fresh allocation of this size faults its pages in anew):
     NeighbourList merged;                   ///< pairAgain's merged rows, swapped with candidates
+    std::vector<std::size_t> add_offset;    ///< pairAgain's additions by row (compressed rows)
+    std::vector<int> add;
     std::vector<std::vector<double>> comp;  ///< update's sampled displacements, by group and axis
     std::vector<char> is_past;              ///< update's particles past their margin
     /// Whether the candidates must be built afresh (then the built state is taken from x,
