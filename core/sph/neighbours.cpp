@@ -93,12 +93,21 @@ int CellGrid::nearbyBuckets(const Vec3& p, std::uint64_t* out) const {
   const std::int64_t ix = static_cast<std::int64_t>(std::floor(c.x()));
   const std::int64_t iy = static_cast<std::int64_t>(std::floor(c.y()));
   const std::int64_t iz = static_cast<std::int64_t>(std::floor(c.z()));
+  // Each bucket once (cells may share one): a bit per bucket's low six bits says which may
+  // be a repeat, and only those are looked for among the listed ones (a sort of the 27 took
+  // 1.5 % of a late quick run's instructions).
+  std::uint64_t seen = 0;
   int n = 0;
   for (std::int64_t dz = -1; dz <= 1; ++dz)
     for (std::int64_t dy = -1; dy <= 1; ++dy)
-      for (std::int64_t dx = -1; dx <= 1; ++dx) out[n++] = bucketOf(ix + dx, iy + dy, iz + dz);
-  std::sort(out, out + n);
-  return static_cast<int>(std::unique(out, out + n) - out);
+      for (std::int64_t dx = -1; dx <= 1; ++dx) {
+        const std::uint64_t b = bucketOf(ix + dx, iy + dy, iz + dz);
+        const std::uint64_t bit = std::uint64_t{1} << (b & 63);
+        if ((seen & bit) && std::find(out, out + n, b) != out + n) continue;
+        seen |= bit;
+        out[n++] = b;
+      }
+  return n;
 }
 
 void CellGrid::build(const std::vector<Vec3>& x, const std::vector<int>& ids, double cell) {

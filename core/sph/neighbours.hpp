@@ -32,7 +32,8 @@ class CellGrid {
   void build(const std::vector<Vec3>& x, const std::vector<int>& ids, double cell);
 
   /// Call fn(j) once for every point j in the 27 cells around position p (and for points
-  /// sharing their buckets): buckets in ascending order, ids ascending within a bucket.
+  /// sharing their buckets), bucket by bucket in no fixed order (callers sort what they
+  /// keep), ids ascending within a bucket.
   template <class Fn>
   void forEachCandidate(const Vec3& p, Fn&& fn) const {
     std::uint64_t buckets[27];
@@ -45,7 +46,7 @@ class CellGrid {
 
  private:
   std::uint64_t bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const;
-  /// Distinct buckets of the 27 cells around p, ascending; returns their count.
+  /// Distinct buckets of the 27 cells around p; returns their count.
   int nearbyBuckets(const Vec3& p, std::uint64_t* out) const;
 
   double inv_cell_ = 0;
