@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// Two doubles side by side, and the sum of 3x3 outer products that the SPH kinematics
-// builds with them. The project is built for the baseline x86-64 (SSE2) and Eigen without
-// vectorisation, so these are where two values share an instruction.
+// Two doubles side by side, and the 3x3 products of the SPH passes built with them: the sum of
+// outer products of the kinematics and the pair stress term of the forces. The project is
+// built for the baseline x86-64 (SSE2) and Eigen without vectorisation, so these are where two
+// values share an instruction.
 #pragma once
 
 #include "core/common/types.hpp"
@@ -39,5 +40,21 @@ struct OuterSum {
     return m;
   }
 };
+
+/// c ((A + B) g) with the bits of Eigen's `c * ((A + B) * g)`: the scalar taken into the
+/// matrix, each row's terms summed t0 + (t1 + t2); rows 0 and 1 side by side. Inline, where
+/// GCC made Eigen's expression an out-of-line call in the SPH force pass (48 instructions a
+/// call, and its arguments through memory).
+inline Vec3 scaledSumTimes(double c, const Mat3& A, const Mat3& B, const Vec3& g) {
+  Lanes2 top[3];
+  double bottom[3];
+  for (int b = 0; b < 3; ++b) {
+    const Lanes2 a01 = {A(0, b), A(1, b)}, b01 = {B(0, b), B(1, b)};
+    top[b] = (c * (a01 + b01)) * g[b];
+    bottom[b] = (c * (A(2, b) + B(2, b))) * g[b];
+  }
+  const Lanes2 t01 = top[0] + (top[1] + top[2]);
+  return Vec3(t01[0], t01[1], bottom[0] + (bottom[1] + bottom[2]));
+}
 
 }  // namespace fesph

@@ -273,7 +273,7 @@ stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i, std
     const double dp = 0.5 * (s.d[i] + s.d[j]);
     const double fn =
         powInt(kernelShape(r_ij.norm() / h_ij) / kernelShape(dp / h_ij), ctl.as_exponent);
-    f = (s.V[i] * s.V[j] * fn) * ((s.R[i] + R_j) * g);
+    f = scaledSumTimes(s.V[i] * s.V[j] * fn, s.R[i], R_j, g);
   }
   mu = 0;
   const double vr = (s.v[i] - v_j).dot(r_ij);
@@ -310,7 +310,7 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
     const Vec3 f_stab = stabilisationForce(cur, pa, i, j, cur.x[j], cur.v[j], cur.R[j], g, ctl, mu);
     ws.pair_stab[k] = f_stab;
     mu_max = std::max(mu_max, mu);
-    f += (cur.V[i] * cur.V[j]) * ((Si + ws.stress_b[j]) * g) + f_stab;
+    f += scaledSumTimes(cur.V[i] * cur.V[j], Si, ws.stress_b[j], g) + f_stab;
     Vec3 f_stab_sum = f_stab;
     if (i < np && j < np) {
       // the last step computed this pair's force in the previous configuration already
@@ -336,7 +336,7 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
       const Vec3 f_stab = stabilisationForce(cur, pa, i, j, M.point(cur.x[j]),
                                              M.vector(cur.v[j]), M.tensor(cur.R[j]), g, ctl, mu);
       mu_max = std::max(mu_max, mu);
-      f += (cur.V[i] * cur.V[j]) * ((Si + M.tensor(ws.stress_b[j])) * g) + f_stab;
+      f += scaledSumTimes(cur.V[i] * cur.V[j], Si, M.tensor(ws.stress_b[j]), g) + f_stab;
       const Vec3 f_stab_sum =
           f_stab + (i < np && j < np
                         ? stabilisationForce(prev, pa, i, j, M.point(prev.x[j]),
