@@ -100,10 +100,12 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   // table for any thread count).
   const int nthreads = maxThreads();
   w.thread_cells.resize(nthreads);
+  // All cleared here: a team of one (few faces) leaves the other lists as an earlier call
+  // filled them, and they are all read below.
+  for (auto& list : w.thread_cells) list.items.clear();
 #pragma omp parallel if (nfaces > 256)
   {
     std::vector<std::pair<std::uint64_t, int>>& mine = w.thread_cells[threadId()].items;
-    mine.clear();
 #pragma omp for schedule(static)
     for (std::size_t f = 0; f < nfaces; ++f)
       grid.forEachCell(w.face_lo[f], w.face_hi[f],

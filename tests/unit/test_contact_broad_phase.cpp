@@ -126,3 +126,36 @@ TEST_CASE("broad phase = brute force on random configurations", "[unit][contact]
   INFO("candidate pairs over all trials: " << total_pairs);
   REQUIRE(total_pairs > 1000);  // the configurations do bring bodies near each other
 }
+
+TEST_CASE("broad phase after the face count drops below its parallel threshold",
+          "[unit][contact]") {
+  // The scratch is kept between steps. With few faces the face pass runs on one thread; the
+  // lists of the other threads from an earlier, larger call must not come back (they held
+  // faces of that call: stale candidates, indices past the face count). Reference: brute force.
+  std::mt19937 rng(7);
+  Model big = randomModel(rng);
+  REQUIRE(big.surfaces.exterior.size() > 256);
+  const int default_threads = threads();
+  setThreads(2);
+  findContactCandidates(big, 1e-6, 0.2);
+
+  Model small;
+  small.materials.push_back(fesph::testing::elasticMaterial());
+  for (int b = 0; b < 2; ++b) {
+    Placement p;
+    p.translation = Vec3(1.5e-3 * b, 0.2e-3 * b, 0.1e-3 * b);
+    addBody(small, "cube" + std::to_string(b), structuredBox(Vec3::Zero(), Vec3::Constant(2e-3), 2, 2, 2),
+            0, p, Vec3::Zero(), false);
+  }
+  finaliseModel(small);
+  buildSurfaces(small);
+  REQUIRE(small.surfaces.exterior.size() <= 256);
+  small.surfaces.scratch = big.surfaces.scratch;
+  findContactCandidates(small, 1e-6, 0.2);
+  setThreads(default_threads);
+  const ContactCandidates ref = bruteForce(small, 1e-6, 0.2);
+  const ContactCandidates& got = small.surfaces.candidates;
+  REQUIRE(ref.faces.size() > 0);
+  REQUIRE(got.offset == ref.offset);
+  REQUIRE(got.faces == ref.faces);
+}
