@@ -444,8 +444,8 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // groups, so the result is that sweep's bit for bit, for any thread count.
   const SweepGroups groups = sweepGroups(model, candidates, offset, viable, slot_face);
   const long ng = static_cast<long>(groups.order.size());
-  // Candidate t of nt threads' first one: the blocks hold equal numbers of viable faces (what a
-  // hit costs). Fixed blocks, not a dynamic schedule: small chunks handed out in turn cost an
+  // The first candidate of thread t of nt: one block per thread, the blocks holding equal
+  // numbers of viable faces (what a hit costs). Fixed blocks, not a dynamic schedule: small chunks handed out in turn cost an
   // atomic each and shared the cache lines of hits and stamps at every chunk's edge (the first
   // pass's hits took as long on two threads as on one).
   const auto hitBlock = [&](long t, long nt) -> long {

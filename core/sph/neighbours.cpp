@@ -22,7 +22,7 @@ constexpr std::size_t kShiftSamples = 256;
 /// collect(i, buf) appends row i (already in its final order) to buf. `work`, if given
 /// (size n + 1, non-decreasing from 0), is the work before each row: the blocks then take
 /// equal shares of it instead of equal numbers of rows (rows of unequal cost: a thread
-/// with the cheap ones waited for the other through a third of the Verlet filter).
+/// with the cheap ones waited for the other through half of the Verlet filter).
 template <class Collect>
 void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::vector<int>>>& thread_buf,
                std::vector<std::size_t>& count, NeighbourList& out,
