@@ -403,25 +403,36 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // A particle's deepest hit depends on its own velocity and the velocities of its viable
   // faces' nodes only, and its own velocity changes only with a hit on one of those faces. So
   // a hit (or a face end) found once stays right until one of those nodes is pushed: every
-  // push is stamped on the face's nodes, and what is older than a stamp among its nodes is
-  // found again. Each pass renews the stale face ends and hits in parallel, then sweeps the
+  // push is stamped on the faces (slots) that hold the pushed face's nodes, and what is older
+  // than its faces' stamps is found again. Each pass renews the stale face ends and hits in parallel, then sweeps the
   // particles in particle order (particles share face nodes), renewing those made stale
   // earlier in the sweep.
   const long nc = static_cast<long>(candidates.size());
   const long ns = static_cast<long>(slot_face.size());
   std::vector<FaceEnd> ends(slot_face.size());
   std::vector<Hit> hits(candidates.size());
-  std::vector<long> found_at(candidates.size(), -1);   // push count when the hit was found
-  std::vector<long> pushed_at(model.nodes.size(), -1);  // push count of a node's last push
+  std::vector<long> found_at(candidates.size(), -1);  // push count when the hit was found
+  // The newest push among each slot's nodes, set on every push through the slots of the
+  // pushed nodes: a slot's staleness is then one look-up, where it took its face's three
+  // nodes' stamps (checked ~26 times a candidate per pass).
+  std::vector<long> slot_pushed(slot_face.size(), -1);
+  std::vector<std::size_t> node_slots_at(model.nodes.size() + 1, 0);  // node -> its slots
+  for (int f : slot_face)
+    for (int a : faces[static_cast<std::size_t>(f)].node) ++node_slots_at[static_cast<std::size_t>(a) + 1];
+  for (std::size_t a = 0; a < model.nodes.size(); ++a) node_slots_at[a + 1] += node_slots_at[a];
+  std::vector<int> node_slots(node_slots_at.back());
+  {
+    std::vector<std::size_t> fill(node_slots_at.begin(), node_slots_at.end() - 1);
+    for (std::size_t sl = 0; sl < slot_face.size(); ++sl)
+      for (int a : faces[static_cast<std::size_t>(slot_face[sl])].node)
+        node_slots[fill[static_cast<std::size_t>(a)]++] = static_cast<int>(sl);
+  }
   long pushes = 0;
-  const auto staleSince = [&](int face, long at) {
-    if (at < 0) return true;
-    for (int a : faces[face].node)
-      if (pushed_at[a] >= at) return true;
-    return false;
+  const auto staleSince = [&](int slot, long at) {
+    return at < 0 || slot_pushed[static_cast<std::size_t>(slot)] >= at;
   };
   const auto renewEnd = [&](long s, long now) {
-    if (staleSince(slot_face[s], ends[s].at)) formFaceEnd(model, slot_face[s], dt, now, ends[s]);
+    if (staleSince(static_cast<int>(s), ends[s].at)) formFaceEnd(model, slot_face[s], dt, now, ends[s]);
   };
   // The face ends must be fresh (renewEnd) for the viable faces of candidate c.
   const auto renewHit = [&](long c, long now) {
@@ -430,7 +441,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
     const Viable* last = viable.data() + offset[p + 1];
     bool stale = found_at[c] < 0;
     for (const Viable* it = first; !stale && it != last; ++it)
-      stale = staleSince(it->face, found_at[c]);
+      stale = staleSince(it->slot, found_at[c]);
     if (!stale) return;
     hits[c] = deepestHit(model, p, radius[p], first, last, ends, dt);
     found_at[c] = now;
@@ -445,9 +456,9 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   const SweepGroups groups = sweepGroups(model, candidates, offset, viable, slot_face);
   const long ng = static_cast<long>(groups.order.size());
   // The first candidate of thread t of nt: one block per thread, the blocks holding equal
-  // numbers of viable faces (what a hit costs). Fixed blocks, not a dynamic schedule: small chunks handed out in turn cost an
-  // atomic each and shared the cache lines of hits and stamps at every chunk's edge (the first
-  // pass's hits took as long on two threads as on one).
+  // numbers of viable faces (what a hit costs). Fixed blocks, not a dynamic schedule: small
+  // chunks handed out in turn cost an atomic each and shared the cache lines of hits and
+  // stamps at every chunk's edge (the first pass's hits took as long on two threads as on one).
   const auto hitBlock = [&](long t, long nt) -> long {
     if (t == 0 || t == nt) return t == 0 ? 0 : nc;
     const std::size_t share = viable.size() * static_cast<std::size_t>(t) / static_cast<std::size_t>(nt);
@@ -479,7 +490,9 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
         }
         if (hits[c].face < 0) continue;
         applyHit(model, static_cast<std::size_t>(candidates[c]), hits[c], alpha, dt);
-        for (int a : faces[hits[c].face].node) pushed_at[a] = now;
+        for (int a : faces[hits[c].face].node)  // the slots sharing a node share its group
+          for (std::size_t q = node_slots_at[a]; q < node_slots_at[a + 1]; ++q)
+            slot_pushed[static_cast<std::size_t>(node_slots[q])] = now;
         ++now;
       }
       pushed += now - pushes_before;
