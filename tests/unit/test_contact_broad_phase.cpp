@@ -144,8 +144,8 @@ TEST_CASE("broad phase after the face count drops below its parallel threshold",
   for (int b = 0; b < 2; ++b) {
     Placement p;
     p.translation = Vec3(1.5e-3 * b, 0.2e-3 * b, 0.1e-3 * b);
-    addBody(small, "cube" + std::to_string(b), structuredBox(Vec3::Zero(), Vec3::Constant(2e-3), 2, 2, 2),
-            0, p, Vec3::Zero(), false);
+    const TetMesh cube = structuredBox(Vec3::Zero(), Vec3::Constant(2e-3), 2, 2, 2);
+    addBody(small, "cube" + std::to_string(b), cube, 0, p, Vec3::Zero(), false);
   }
   finaliseModel(small);
   buildSurfaces(small);
