@@ -335,7 +335,8 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
       const double reach = ri + v.r_wide[js];
       if (!((xi - v.x_built[js]).squaredNorm() < reach * reach)) return;
       if (cross) {
-        if (lacks(std::min(i, j), std::max(i, j))) found[k].emplace_back(std::min(i, j), std::max(i, j));
+        const int lo = std::min(i, j), hi = std::max(i, j);
+        if (lacks(lo, hi)) found[k].emplace_back(lo, hi);
       } else {
         if (lacks(i, j)) found[k].emplace_back(i, j);
         if (lacks(j, i)) found[k].emplace_back(j, i);
