@@ -287,6 +287,30 @@ void applyHit(Model& model, std::size_t p, const Hit& hit, double alpha, double 
   }
 }
 
+// The face slots that hold each node (compressed rows over the nodes): the slots a push on a
+// node makes stale, and the slots the sweep groups join.
+struct NodeSlots {
+  std::vector<std::size_t> at;  ///< node a's slots are slots[at[a]] .. slots[at[a + 1] - 1]
+  std::vector<int> slots;
+  std::size_t n_slots = 0;      ///< the slots' count
+};
+
+NodeSlots nodeSlots(const Model& model, const std::vector<int>& slot_face) {
+  const auto& faces = model.surfaces.exterior;
+  NodeSlots n;
+  n.n_slots = slot_face.size();
+  n.at.assign(model.nodes.size() + 1, 0);
+  for (int f : slot_face)
+    for (int a : faces[static_cast<std::size_t>(f)].node) ++n.at[static_cast<std::size_t>(a) + 1];
+  for (std::size_t a = 0; a < model.nodes.size(); ++a) n.at[a + 1] += n.at[a];
+  n.slots.resize(n.at.back());
+  std::vector<std::size_t> fill(n.at.begin(), n.at.end() - 1);
+  for (std::size_t s = 0; s < slot_face.size(); ++s)
+    for (int a : faces[static_cast<std::size_t>(slot_face[s])].node)
+      n.slots[fill[static_cast<std::size_t>(a)]++] = static_cast<int>(s);
+  return n;
+}
+
 // The candidates (indices into `candidates`) in groups that share no face node: members
 // ascending within a group, the groups largest first (the order the threads take them in,
 // which changes no result). One thread takes them all as one group, without the grouping.
@@ -296,9 +320,8 @@ struct SweepGroups {
   std::vector<std::size_t> order;
 };
 
-SweepGroups sweepGroups(const Model& model, const std::vector<int>& candidates,
-                        const std::vector<std::size_t>& offset, const std::vector<Viable>& viable,
-                        const std::vector<int>& slot_face) {
+SweepGroups sweepGroups(const std::vector<int>& candidates, const std::vector<std::size_t>& offset,
+                        const std::vector<Viable>& viable, const NodeSlots& node_slots) {
   SweepGroups g;
   if (maxThreads() == 1 || candidates.size() <= static_cast<std::size_t>(kParallelMin)) {
     g.members.resize(candidates.size());
@@ -307,17 +330,12 @@ SweepGroups sweepGroups(const Model& model, const std::vector<int>& candidates,
     g.order = {0};
     return g;
   }
-  const auto& faces = model.surfaces.exterior;
   // Disjoint sets of face slots: slots that share a node, and the viable slots of a candidate.
-  UnionFind joined(slot_face.size());
-  std::vector<int> slot_at(model.nodes.size(), -1);  // a slot with the node
-  for (std::size_t s = 0; s < slot_face.size(); ++s)
-    for (int a : faces[static_cast<std::size_t>(slot_face[s])].node) {
-      if (slot_at[a] < 0)
-        slot_at[a] = static_cast<int>(s);
-      else
-        joined.join(static_cast<int>(s), slot_at[a]);
-    }
+  const std::size_t n_slots = node_slots.n_slots;
+  UnionFind joined(n_slots);
+  for (std::size_t a = 0; a + 1 < node_slots.at.size(); ++a)
+    for (std::size_t q = node_slots.at[a] + 1; q < node_slots.at[a + 1]; ++q)
+      joined.join(node_slots.slots[q], node_slots.slots[node_slots.at[a]]);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     const std::size_t p = static_cast<std::size_t>(candidates[c]);
     const int anchor = viable[offset[p]].slot;
@@ -325,12 +343,12 @@ SweepGroups sweepGroups(const Model& model, const std::vector<int>& candidates,
   }
   // Groups by root slot, ascending, members ascending: a counting sort by root.
   std::vector<int> root_of(candidates.size());
-  std::vector<std::size_t> fill(slot_face.size() + 1, 0);
+  std::vector<std::size_t> fill(n_slots + 1, 0);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     root_of[c] = joined.find(viable[offset[candidates[c]]].slot);
     ++fill[static_cast<std::size_t>(root_of[c]) + 1];
   }
-  for (std::size_t s = 0; s < slot_face.size(); ++s) {
+  for (std::size_t s = 0; s < n_slots; ++s) {
     if (fill[s + 1] > 0) g.start.push_back(fill[s]);
     fill[s + 1] += fill[s];
   }
@@ -404,9 +422,9 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // faces' nodes only, and its own velocity changes only with a hit on one of those faces. So
   // a hit (or a face end) found once stays right until one of those nodes is pushed: every
   // push is stamped on the faces (slots) that hold the pushed face's nodes, and what is older
-  // than its faces' stamps is found again. Each pass renews the stale face ends and hits in parallel, then sweeps the
-  // particles in particle order (particles share face nodes), renewing those made stale
-  // earlier in the sweep.
+  // than its faces' stamps is found again. Each pass renews the stale face ends and hits in
+  // parallel, then sweeps the particles in particle order (particles share face nodes),
+  // renewing those made stale earlier in the sweep.
   const long nc = static_cast<long>(candidates.size());
   const long ns = static_cast<long>(slot_face.size());
   std::vector<FaceEnd> ends(slot_face.size());
@@ -416,23 +434,14 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // pushed nodes: a slot's staleness is then one look-up, where it took its face's three
   // nodes' stamps (checked ~26 times a candidate per pass).
   std::vector<long> slot_pushed(slot_face.size(), -1);
-  std::vector<std::size_t> node_slots_at(model.nodes.size() + 1, 0);  // node -> its slots
-  for (int f : slot_face)
-    for (int a : faces[static_cast<std::size_t>(f)].node) ++node_slots_at[static_cast<std::size_t>(a) + 1];
-  for (std::size_t a = 0; a < model.nodes.size(); ++a) node_slots_at[a + 1] += node_slots_at[a];
-  std::vector<int> node_slots(node_slots_at.back());
-  {
-    std::vector<std::size_t> fill(node_slots_at.begin(), node_slots_at.end() - 1);
-    for (std::size_t sl = 0; sl < slot_face.size(); ++sl)
-      for (int a : faces[static_cast<std::size_t>(slot_face[sl])].node)
-        node_slots[fill[static_cast<std::size_t>(a)]++] = static_cast<int>(sl);
-  }
+  const NodeSlots node_slots = nodeSlots(model, slot_face);
   long pushes = 0;
   const auto staleSince = [&](int slot, long at) {
     return at < 0 || slot_pushed[static_cast<std::size_t>(slot)] >= at;
   };
   const auto renewEnd = [&](long s, long now) {
-    if (staleSince(static_cast<int>(s), ends[s].at)) formFaceEnd(model, slot_face[s], dt, now, ends[s]);
+    if (staleSince(static_cast<int>(s), ends[s].at))
+      formFaceEnd(model, slot_face[s], dt, now, ends[s]);
   };
   // The face ends must be fresh (renewEnd) for the viable faces of candidate c.
   const auto renewHit = [&](long c, long now) {
@@ -453,7 +462,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // counting its own pushes from the pass's start: within a group that orders pushes and
   // finds as the one sweep over all candidates did, and no stamp is ever compared across
   // groups, so the result is that sweep's bit for bit, for any thread count.
-  const SweepGroups groups = sweepGroups(model, candidates, offset, viable, slot_face);
+  const SweepGroups groups = sweepGroups(candidates, offset, viable, node_slots);
   const long ng = static_cast<long>(groups.order.size());
   // The first candidate of thread t of nt: one block per thread, the blocks holding equal
   // numbers of viable faces (what a hit costs). Fixed blocks, not a dynamic schedule: small
@@ -461,7 +470,8 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // stamps at every chunk's edge (the first pass's hits took as long on two threads as on one).
   const auto hitBlock = [&](long t, long nt) -> long {
     if (t == 0 || t == nt) return t == 0 ? 0 : nc;
-    const std::size_t share = viable.size() * static_cast<std::size_t>(t) / static_cast<std::size_t>(nt);
+    const std::size_t share =
+        viable.size() * static_cast<std::size_t>(t) / static_cast<std::size_t>(nt);
     return std::lower_bound(candidates.begin(), candidates.end(), share,
                             [&](int p, std::size_t v) { return offset[p] < v; }) -
            candidates.begin();
@@ -491,8 +501,8 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
         if (hits[c].face < 0) continue;
         applyHit(model, static_cast<std::size_t>(candidates[c]), hits[c], alpha, dt);
         for (int a : faces[hits[c].face].node)  // the slots sharing a node share its group
-          for (std::size_t q = node_slots_at[a]; q < node_slots_at[a + 1]; ++q)
-            slot_pushed[static_cast<std::size_t>(node_slots[q])] = now;
+          for (std::size_t q = node_slots.at[a]; q < node_slots.at[a + 1]; ++q)
+            slot_pushed[static_cast<std::size_t>(node_slots.slots[q])] = now;
         ++now;
       }
       pushed += now - pushes_before;
