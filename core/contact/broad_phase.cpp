@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <vector>
 
 namespace fesph {
 
@@ -83,11 +85,48 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     w.face_hi[f] = hi.array() + tol;
     extent_sum += (w.face_hi[f] - w.face_lo[f]).maxCoeff();
   }
-  Vec3 all_lo = w.face_lo[0], all_hi = w.face_hi[0];
-  for (std::size_t f = 1; f < nfaces; ++f) {
-    all_lo = all_lo.cwiseMin(w.face_lo[f]);
-    all_hi = all_hi.cwiseMax(w.face_hi[f]);
+  // Each body's bounds of its faces' boxes and of its slaves' segments. A face whose box
+  // misses every other body's slave bounds is no slave's candidate, and a slave whose segment
+  // misses every other body's face bounds has none: neither enters the grid. Most faces of
+  // spaced plates are far from every other body, so this leaves the grid a fraction of them,
+  // and the candidates the same (the box tests decide them).
+  const std::size_t nbodies = out.body_begin.size() - 1;
+  w.slave_lo.resize(nslaves);
+  w.slave_hi.resize(nslaves);
+#pragma omp parallel for schedule(static) if (nslaves > 256)
+  for (std::size_t i = 0; i < nslaves; ++i) {
+    const int a = out.slaves[i];
+    const Vec3 y = nd.x[a] + dt * nd.v[a];
+    w.slave_lo[i] = nd.x[a].cwiseMin(y);
+    w.slave_hi[i] = nd.x[a].cwiseMax(y);
   }
+  const double inf = std::numeric_limits<double>::infinity();
+  const Vec3 none_lo = Vec3::Constant(inf), none_hi = Vec3::Constant(-inf);
+  std::vector<Vec3> body_face_lo(nbodies, none_lo), body_face_hi(nbodies, none_hi);
+  std::vector<Vec3> body_slave_lo(nbodies, none_lo), body_slave_hi(nbodies, none_hi);
+  for (std::size_t f = 0; f < nfaces; ++f) {
+    const std::size_t b = static_cast<std::size_t>(s.exterior[f].body);
+    body_face_lo[b] = body_face_lo[b].cwiseMin(w.face_lo[f]);
+    body_face_hi[b] = body_face_hi[b].cwiseMax(w.face_hi[f]);
+  }
+  for (std::size_t b = 0; b < nbodies; ++b)
+    for (std::size_t i = out.body_begin[b]; i < out.body_begin[b + 1]; ++i) {
+      body_slave_lo[b] = body_slave_lo[b].cwiseMin(w.slave_lo[i]);
+      body_slave_hi[b] = body_slave_hi[b].cwiseMax(w.slave_hi[i]);
+    }
+  Vec3 all_lo = none_lo, all_hi = none_hi;
+  for (std::size_t b = 0; b < nbodies; ++b) {
+    all_lo = all_lo.cwiseMin(body_face_lo[b]);
+    all_hi = all_hi.cwiseMax(body_face_hi[b]);
+  }
+  // Whether the box [lo, hi] of body `own` meets the bounds of any other body.
+  const auto meetsOther = [nbodies](const Vec3& lo, const Vec3& hi, std::size_t own,
+                                    const std::vector<Vec3>& other_lo,
+                                    const std::vector<Vec3>& other_hi) {
+    for (std::size_t b = 0; b < nbodies; ++b)
+      if (b != own && overlaps(lo, hi, other_lo[b], other_hi[b])) return true;
+    return false;
+  };
   Grid grid;
   const double h = extent_sum / static_cast<double>(nfaces);
   grid.origin = all_lo;
@@ -108,8 +147,10 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     std::vector<std::pair<std::uint64_t, int>>& mine = w.thread_cells[threadId()].items;
 #pragma omp for schedule(static)
     for (std::size_t f = 0; f < nfaces; ++f)
-      grid.forEachCell(w.face_lo[f], w.face_hi[f],
-                       [&](std::uint64_t h) { mine.emplace_back(h, static_cast<int>(f)); });
+      if (meetsOther(w.face_lo[f], w.face_hi[f], static_cast<std::size_t>(s.exterior[f].body),
+                     body_slave_lo, body_slave_hi))
+        grid.forEachCell(w.face_lo[f], w.face_hi[f],
+                         [&](std::uint64_t h) { mine.emplace_back(h, static_cast<int>(f)); });
   }
   std::size_t inserts = 0;
   for (int t = 0; t < nthreads; ++t) inserts += w.thread_cells[t].items.size();
@@ -139,10 +180,9 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < nslaves; ++i) {
       const int a = out.slaves[i];
-      const Vec3 y = nd.x[a] + dt * nd.v[a];
-      const Vec3 lo = nd.x[a].cwiseMin(y), hi = nd.x[a].cwiseMax(y);
+      const Vec3 &lo = w.slave_lo[i], &hi = w.slave_hi[i];
       const std::size_t start = list.size();
-      if (overlaps(lo, hi, all_lo, all_hi)) {
+      if (meetsOther(lo, hi, static_cast<std::size_t>(nd.body[a]), body_face_lo, body_face_hi)) {
         grid.forEachCell(lo, hi, [&](std::uint64_t h) {
           const std::size_t b = grid.bucket(h);
           for (std::size_t q = w.bucket_offset[b]; q < w.bucket_offset[b + 1]; ++q) {

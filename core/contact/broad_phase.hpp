@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Contact search: which exterior faces of other bodies each slave node may meet during the
-// step. A spatial hash over the faces' swept boxes, rebuilt every step.
+// step. A spatial hash over the faces' swept boxes, rebuilt every step; faces and slaves
+// outside every other body's bounds stay out of it.
 #pragma once
 
 #include "core/state/model.hpp"

@@ -45,8 +45,9 @@ Footprint modelFootprint(const Model& m) {
   const ContactCandidates& c = s.candidates;
   const ContactScratch& w = s.scratch;
   f.contact = bytes(s.exterior, s.slave_nodes, c.slaves, c.body_begin, c.offset, c.faces) +
-              bytes(w.face_lo, w.face_hi, w.face_tol, w.bucket_offset, w.bucket_fill) +
-              bytes(w.bucket_faces, w.thread_faces, w.slave_thread, w.slave_start, w.contact_face);
+              bytes(w.face_lo, w.face_hi, w.face_tol, w.slave_lo, w.slave_hi, w.bucket_offset) +
+              bytes(w.bucket_fill, w.bucket_faces, w.thread_faces, w.slave_thread, w.slave_start) +
+              bytes(w.contact_face);
   const Particles& pa = m.particles;
   const SphWorkspace& ws = m.sph;
   f.particles = bytes(pa.x, pa.v, pa.f, pa.m, pa.V, pa.rho, pa.h, pa.d0, pa.dt, pa.state) +

@@ -53,6 +53,7 @@ struct ContactCandidates {
 struct ContactScratch {
   std::vector<Vec3> face_lo, face_hi;         ///< swept, inflated boxes of the exterior faces
   std::vector<double> face_tol;               ///< depth tolerance of each exterior face, m
+  std::vector<Vec3> slave_lo, slave_hi;       ///< boxes of the slaves' segments over the step
   std::vector<std::size_t> bucket_offset;     ///< spatial hash buckets -> bucket_faces (CSR)
   std::vector<std::size_t> bucket_fill;       ///< fill cursor of each bucket
   std::vector<int> bucket_faces;

@@ -159,3 +159,43 @@ TEST_CASE("broad phase after the face count drops below its parallel threshold",
   REQUIRE(got.offset == ref.offset);
   REQUIRE(got.faces == ref.faces);
 }
+
+TEST_CASE("broad phase hashes only the faces near another body's slaves", "[unit][contact]") {
+  // Three 4 mm plates side by side along x, 0.5 mm apart; the middle one moves towards the
+  // first at 400 m/s. Over a 1 us step only the facing sides of the first two come within
+  // reach of each other: the third plate's faces and slaves stay out of the hash. The
+  // candidates still equal the brute force (reference) for 1 and 2 threads.
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  for (int b = 0; b < 3; ++b) {
+    Placement p;
+    p.translation = Vec3(4.5e-3 * b, 0, 0);
+    const TetMesh plate = structuredBox(Vec3::Zero(), Vec3(4e-3, 4e-3, 1e-3), 8, 8, 2);
+    addBody(m, "plate" + std::to_string(b), plate, 0, p, Vec3::Zero(), false);
+  }
+  finaliseModel(m);
+  for (std::size_t a = 0; a < m.nodes.size(); ++a)
+    if (m.nodes.body[a] == 1) m.nodes.v[a] = Vec3(-400.0, 0, 0);
+  buildSurfaces(m);
+  const double dt = 1e-6, tol = 0.2;
+  const ContactCandidates ref = bruteForce(m, dt, tol);
+  REQUIRE(ref.faces.size() > 0);
+  const int default_threads = threads();
+  for (int threads : {1, 2}) {
+    setThreads(threads);
+    findContactCandidates(m, dt, tol);
+    const ContactCandidates& got = m.surfaces.candidates;
+    REQUIRE(got.offset == ref.offset);
+    REQUIRE(got.faces == ref.faces);
+    // Every hashed face lies on the facing sides (x within 1 mm of the gap at 4 - 4.5 mm).
+    const std::vector<int>& hashed = m.surfaces.scratch.bucket_faces;
+    REQUIRE(!hashed.empty());
+    for (int f : hashed) {
+      CAPTURE(f);
+      REQUIRE(m.surfaces.exterior[static_cast<std::size_t>(f)].body <= 1);
+      for (int a : m.surfaces.exterior[static_cast<std::size_t>(f)].node)
+        REQUIRE(std::abs(m.nodes.x[a].x() - 4.25e-3) < 1e-3);
+    }
+  }
+  setThreads(default_threads);
+}
