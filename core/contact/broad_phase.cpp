@@ -42,6 +42,27 @@ bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi
   return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
 }
 
+/// Per body, the bounds of a set of boxes (empty: +inf / -inf).
+struct BodyBounds {
+  std::vector<Vec3> lo, hi;
+  explicit BodyBounds(std::size_t nbodies)
+      : lo(nbodies, Vec3::Constant(std::numeric_limits<double>::infinity())),
+        hi(nbodies, Vec3::Constant(-std::numeric_limits<double>::infinity())) {}
+  void add(std::size_t body, const Vec3& box_lo, const Vec3& box_hi) {
+    lo[body] = lo[body].cwiseMin(box_lo);
+    hi[body] = hi[body].cwiseMax(box_hi);
+  }
+  void add(const BodyBounds& other) {
+    for (std::size_t b = 0; b < lo.size(); ++b) add(b, other.lo[b], other.hi[b]);
+  }
+  /// Whether the box [box_lo, box_hi] of body `own` meets the bounds of another body.
+  bool meetsOther(std::size_t own, const Vec3& box_lo, const Vec3& box_hi) const {
+    for (std::size_t b = 0; b < lo.size(); ++b)
+      if (b != own && overlaps(box_lo, box_hi, lo[b], hi[b])) return true;
+    return false;
+  }
+};
+
 }  // namespace
 
 void findContactCandidates(Model& model, double dt, double depth_tolerance) {
@@ -60,73 +81,82 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     out.body_begin.push_back(out.slaves.size());
   }
   const std::size_t nslaves = out.slaves.size();
+  const std::size_t nbodies = out.body_begin.size() - 1;
   out.offset.assign(nslaves + 1, 0);
   out.faces.clear();
+  out.active.clear();
   if (nfaces == 0 || nslaves == 0) return;
 
-  // Swept, widened face boxes; the cell size is their mean largest extent.
+  // Swept, widened face boxes and each body's bounds of them; the cell size is their mean
+  // largest extent. (Bounds by min and max: the same for any thread count.)
   w.face_lo.resize(nfaces);
   w.face_hi.resize(nfaces);
   w.face_tol.resize(nfaces);
   double extent_sum = 0;
-#pragma omp parallel for schedule(static) reduction(+ : extent_sum) if (nfaces > 256)
-  for (std::size_t f = 0; f < nfaces; ++f) {
-    const auto& n = s.exterior[f].node;
-    Vec3 lo = nd.x[n[0]], hi = nd.x[n[0]];
-    for (int i = 0; i < 3; ++i) {
-      const Vec3& x = nd.x[n[i]];
-      const Vec3 y = x + dt * nd.v[n[i]];
-      lo = lo.cwiseMin(x).cwiseMin(y);
-      hi = hi.cwiseMax(x).cwiseMax(y);
+  BodyBounds face_bounds(nbodies);
+#pragma omp parallel if (nfaces > 256)
+  {
+    BodyBounds mine(nbodies);
+#pragma omp for schedule(static) reduction(+ : extent_sum)
+    for (std::size_t f = 0; f < nfaces; ++f) {
+      const auto& n = s.exterior[f].node;
+      Vec3 lo = nd.x[n[0]], hi = nd.x[n[0]];
+      for (int i = 0; i < 3; ++i) {
+        const Vec3& x = nd.x[n[i]];
+        const Vec3 y = x + dt * nd.v[n[i]];
+        lo = lo.cwiseMin(x).cwiseMin(y);
+        hi = hi.cwiseMax(x).cwiseMax(y);
+      }
+      const double tol = depth_tolerance * std::sqrt(longestEdgeSquared(nd.x, s.exterior[f]));
+      w.face_tol[f] = tol;
+      w.face_lo[f] = lo.array() - tol;
+      w.face_hi[f] = hi.array() + tol;
+      extent_sum += (w.face_hi[f] - w.face_lo[f]).maxCoeff();
+      mine.add(static_cast<std::size_t>(s.exterior[f].body), w.face_lo[f], w.face_hi[f]);
     }
-    const double tol = depth_tolerance * std::sqrt(longestEdgeSquared(nd.x, s.exterior[f]));
-    w.face_tol[f] = tol;
-    w.face_lo[f] = lo.array() - tol;
-    w.face_hi[f] = hi.array() + tol;
-    extent_sum += (w.face_hi[f] - w.face_lo[f]).maxCoeff();
+#pragma omp critical
+    face_bounds.add(mine);
   }
-  // Each body's bounds of its faces' boxes and of its slaves' segments. A face whose box
-  // misses every other body's slave bounds is no slave's candidate, and a slave whose segment
-  // misses every other body's face bounds has none: neither enters the grid. Most faces of
-  // spaced plates are far from every other body, so this leaves the grid a fraction of them,
-  // and the candidates the same (the box tests decide them).
-  const std::size_t nbodies = out.body_begin.size() - 1;
+
+  // The slaves' segments over the step, each body's bounds of them, and the slaves whose
+  // segment meets another body's faces' bounds (ascending: each thread lists a contiguous
+  // share, joined in thread order). Only those query the grid, and only the faces whose box
+  // meets another body's slaves' bounds enter it: the box tests decide the candidates, so
+  // they are the same, and most faces of spaced plates, far from every other body, stay out.
   w.slave_lo.resize(nslaves);
   w.slave_hi.resize(nslaves);
-#pragma omp parallel for schedule(static) if (nslaves > 256)
-  for (std::size_t i = 0; i < nslaves; ++i) {
-    const int a = out.slaves[i];
-    const Vec3 y = nd.x[a] + dt * nd.v[a];
-    w.slave_lo[i] = nd.x[a].cwiseMin(y);
-    w.slave_hi[i] = nd.x[a].cwiseMax(y);
-  }
-  const double inf = std::numeric_limits<double>::infinity();
-  const Vec3 none_lo = Vec3::Constant(inf), none_hi = Vec3::Constant(-inf);
-  std::vector<Vec3> body_face_lo(nbodies, none_lo), body_face_hi(nbodies, none_hi);
-  std::vector<Vec3> body_slave_lo(nbodies, none_lo), body_slave_hi(nbodies, none_hi);
-  for (std::size_t f = 0; f < nfaces; ++f) {
-    const std::size_t b = static_cast<std::size_t>(s.exterior[f].body);
-    body_face_lo[b] = body_face_lo[b].cwiseMin(w.face_lo[f]);
-    body_face_hi[b] = body_face_hi[b].cwiseMax(w.face_hi[f]);
-  }
-  for (std::size_t b = 0; b < nbodies; ++b)
-    for (std::size_t i = out.body_begin[b]; i < out.body_begin[b + 1]; ++i) {
-      body_slave_lo[b] = body_slave_lo[b].cwiseMin(w.slave_lo[i]);
-      body_slave_hi[b] = body_slave_hi[b].cwiseMax(w.slave_hi[i]);
+  const int nthreads = maxThreads();
+  w.thread_faces.resize(nthreads);
+  for (auto& list : w.thread_faces) list.items.clear();
+  BodyBounds slave_bounds(nbodies);
+#pragma omp parallel if (nslaves > 256)
+  {
+    BodyBounds mine(nbodies);
+    std::vector<int>& queried = w.thread_faces[threadId()].items;
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < nslaves; ++i) {
+      const int a = out.slaves[i];
+      const Vec3 y = nd.x[a] + dt * nd.v[a];
+      w.slave_lo[i] = nd.x[a].cwiseMin(y);
+      w.slave_hi[i] = nd.x[a].cwiseMax(y);
+      const std::size_t body = static_cast<std::size_t>(nd.body[a]);
+      mine.add(body, w.slave_lo[i], w.slave_hi[i]);
+      if (face_bounds.meetsOther(body, w.slave_lo[i], w.slave_hi[i]))
+        queried.push_back(static_cast<int>(i));
     }
-  Vec3 all_lo = none_lo, all_hi = none_hi;
-  for (std::size_t b = 0; b < nbodies; ++b) {
-    all_lo = all_lo.cwiseMin(body_face_lo[b]);
-    all_hi = all_hi.cwiseMax(body_face_hi[b]);
+#pragma omp critical
+    slave_bounds.add(mine);
   }
-  // Whether the box [lo, hi] of body `own` meets the bounds of any other body.
-  const auto meetsOther = [nbodies](const Vec3& lo, const Vec3& hi, std::size_t own,
-                                    const std::vector<Vec3>& other_lo,
-                                    const std::vector<Vec3>& other_hi) {
-    for (std::size_t b = 0; b < nbodies; ++b)
-      if (b != own && overlaps(lo, hi, other_lo[b], other_hi[b])) return true;
-    return false;
-  };
+  w.queried.clear();
+  for (const auto& list : w.thread_faces)
+    w.queried.insert(w.queried.end(), list.items.begin(), list.items.end());
+  if (w.queried.empty()) return;
+
+  Vec3 all_lo = face_bounds.lo[0], all_hi = face_bounds.hi[0];
+  for (std::size_t b = 1; b < nbodies; ++b) {
+    all_lo = all_lo.cwiseMin(face_bounds.lo[b]);
+    all_hi = all_hi.cwiseMax(face_bounds.hi[b]);
+  }
   Grid grid;
   const double h = extent_sum / static_cast<double>(nfaces);
   grid.origin = all_lo;
@@ -137,7 +167,6 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   // Faces into buckets: each thread lists the (cell hash, face) pairs of a contiguous range of
   // faces, then a counting sort by bucket keeps the faces of each bucket ascending (the same
   // table for any thread count).
-  const int nthreads = maxThreads();
   w.thread_cells.resize(nthreads);
   // All cleared here: a team of one (few faces) leaves the other lists as an earlier call
   // filled them, and they are all read below.
@@ -147,8 +176,8 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     std::vector<std::pair<std::uint64_t, int>>& mine = w.thread_cells[threadId()].items;
 #pragma omp for schedule(static)
     for (std::size_t f = 0; f < nfaces; ++f)
-      if (meetsOther(w.face_lo[f], w.face_hi[f], static_cast<std::size_t>(s.exterior[f].body),
-                     body_slave_lo, body_slave_hi))
+      if (slave_bounds.meetsOther(static_cast<std::size_t>(s.exterior[f].body), w.face_lo[f],
+                                  w.face_hi[f]))
         grid.forEachCell(w.face_lo[f], w.face_hi[f],
                          [&](std::uint64_t h) { mine.emplace_back(h, static_cast<int>(f)); });
   }
@@ -169,43 +198,45 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   for (int t = 0; t < nthreads; ++t)
     for (const auto& [h, f] : w.thread_cells[t].items) w.bucket_faces[w.bucket_fill[grid.bucket(h)]++] = f;
 
-  // Query every slave in parallel into per-thread lists, then copy them out in slave order.
-  w.thread_faces.resize(nthreads);
+  // Query the slaves in parallel into per-thread lists, then copy them out in slave order.
   for (auto& list : w.thread_faces) list.items.clear();
-  w.slave_thread.resize(nslaves);
-  w.slave_start.resize(nslaves);
-#pragma omp parallel if (nslaves > 256)
+  const std::size_t nq = w.queried.size();
+  w.slave_thread.resize(nq);
+  w.slave_start.resize(nq);
+#pragma omp parallel if (nq > 256)
   {
     std::vector<int>& list = w.thread_faces[threadId()].items;
 #pragma omp for schedule(static)
-    for (std::size_t i = 0; i < nslaves; ++i) {
+    for (std::size_t q = 0; q < nq; ++q) {
+      const std::size_t i = static_cast<std::size_t>(w.queried[q]);
       const int a = out.slaves[i];
       const Vec3 &lo = w.slave_lo[i], &hi = w.slave_hi[i];
       const std::size_t start = list.size();
-      if (meetsOther(lo, hi, static_cast<std::size_t>(nd.body[a]), body_face_lo, body_face_hi)) {
-        grid.forEachCell(lo, hi, [&](std::uint64_t h) {
-          const std::size_t b = grid.bucket(h);
-          for (std::size_t q = w.bucket_offset[b]; q < w.bucket_offset[b + 1]; ++q) {
-            const int f = w.bucket_faces[q];
-            if (s.exterior[f].body != nd.body[a] && overlaps(lo, hi, w.face_lo[f], w.face_hi[f]))
-              list.push_back(f);
-          }
-        });
-        std::sort(list.begin() + start, list.end());
-        list.erase(std::unique(list.begin() + start, list.end()), list.end());
-      }
-      w.slave_thread[i] = threadId();
-      w.slave_start[i] = start;
+      grid.forEachCell(lo, hi, [&](std::uint64_t h) {
+        const std::size_t b = grid.bucket(h);
+        for (std::size_t k = w.bucket_offset[b]; k < w.bucket_offset[b + 1]; ++k) {
+          const int f = w.bucket_faces[k];
+          if (s.exterior[f].body != nd.body[a] && overlaps(lo, hi, w.face_lo[f], w.face_hi[f]))
+            list.push_back(f);
+        }
+      });
+      std::sort(list.begin() + start, list.end());
+      list.erase(std::unique(list.begin() + start, list.end()), list.end());
+      w.slave_thread[q] = threadId();
+      w.slave_start[q] = start;
       out.offset[i + 1] = list.size() - start;
     }
   }
+  for (std::size_t q = 0; q < nq; ++q)
+    if (out.offset[static_cast<std::size_t>(w.queried[q]) + 1] > 0) out.active.push_back(w.queried[q]);
   for (std::size_t i = 0; i < nslaves; ++i) out.offset[i + 1] += out.offset[i];
   out.faces.resize(out.offset[nslaves]);
-#pragma omp parallel for schedule(static) if (nslaves > 256)
-  for (std::size_t i = 0; i < nslaves; ++i) {
-    const std::vector<int>& list = w.thread_faces[w.slave_thread[i]].items;
-    std::copy(list.begin() + w.slave_start[i],
-              list.begin() + w.slave_start[i] + (out.offset[i + 1] - out.offset[i]),
+#pragma omp parallel for schedule(static) if (nq > 256)
+  for (std::size_t q = 0; q < nq; ++q) {
+    const std::size_t i = static_cast<std::size_t>(w.queried[q]);
+    const std::vector<int>& list = w.thread_faces[w.slave_thread[q]].items;
+    std::copy(list.begin() + w.slave_start[q],
+              list.begin() + w.slave_start[q] + (out.offset[i + 1] - out.offset[i]),
               out.faces.begin() + out.offset[i]);
   }
 }

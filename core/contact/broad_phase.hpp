@@ -14,6 +14,7 @@ namespace fesph {
 /// [x_s, x_s + dt v_s] overlaps the box of the face's nodes at x^n and x^n + dt v^{n+1/2},
 /// widened on every side by depth_tolerance times the face's longest edge at x^n (that
 /// margin is kept in model.surfaces.scratch.face_tol for the narrow phase).
+/// candidates.active lists the slaves with at least one candidate, ascending.
 /// O(slaves + faces); each list ascending; identical for any thread count.
 void findContactCandidates(Model& model, double dt, double depth_tolerance);
 

@@ -114,18 +114,26 @@ void enforceNodeFaceContact(Model& model, double dt, const ContactControls& cont
   ContactScratch& w = s.scratch;
   const std::vector<double>& face_tol = w.face_tol;
   std::vector<int>& contact_face = w.contact_face;
-  contact_face.assign(cand.slaves.size(), -1);
+  const std::vector<int>& active = cand.active;  // the slaves with candidates, ascending
+  contact_face.assign(active.size(), -1);
 
   const int N = controls.passes;
   for (int k = 1; k <= N; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(N - k + 1));
     bool corrected = false;
     for (std::size_t b = 0; b + 1 < cand.body_begin.size(); ++b) {
-      const std::size_t begin = cand.body_begin[b], end = cand.body_begin[b + 1];
+      // Body b's active slaves: active[begin, end).
+      const auto first = [&](std::size_t slave) {
+        return static_cast<std::size_t>(
+            std::lower_bound(active.begin(), active.end(), static_cast<int>(slave)) -
+            active.begin());
+      };
+      const std::size_t begin = first(cand.body_begin[b]), end = first(cand.body_begin[b + 1]);
       // Find, in parallel, the face each slave of body b moves into fastest: the one it is
       // crossing (a node on an edge also grazes the faces on the other side of it)...
 #pragma omp parallel for schedule(static) if (end - begin > 256)
-      for (std::size_t i = begin; i < end; ++i) {
+      for (std::size_t j = begin; j < end; ++j) {
+        const std::size_t i = static_cast<std::size_t>(active[j]);
         int best = -1;
         double best_approach = -std::numeric_limits<double>::infinity();
         for (std::size_t q = cand.offset[i]; q < cand.offset[i + 1]; ++q) {
@@ -137,11 +145,12 @@ void enforceNodeFaceContact(Model& model, double dt, const ContactControls& cont
             best_approach = hit.approach;
           }
         }
-        contact_face[i] = best;
+        contact_face[j] = best;
       }
       // ...then correct in slave order, each against the velocities the earlier ones left.
-      for (std::size_t i = begin; i < end; ++i) {
-        const int f = contact_face[i];
+      for (std::size_t j = begin; j < end; ++j) {
+        const std::size_t i = static_cast<std::size_t>(active[j]);
+        const int f = contact_face[j];
         Hit hit;
         if (f < 0 || !probe(nd, cand.slaves[i], s.exterior[f], face_tol[f], dt, hit)) continue;
         correct(nd, cand.slaves[i], s.exterior[f], hit, alpha, controls.friction, dt);

@@ -47,6 +47,7 @@ struct ContactCandidates {
   std::vector<std::size_t> body_begin;  ///< body b: slaves[body_begin[b], body_begin[b + 1])
   std::vector<std::size_t> offset;  ///< candidates of slaves[i]: faces[offset[i], offset[i+1])
   std::vector<int> faces;           ///< exterior face indices, ascending per slave
+  std::vector<int> active;          ///< the slaves (indices into `slaves`) with candidates, ascending
 };
 
 /// Scratch of the contact search and correction, kept so the step allocates nothing.
@@ -54,14 +55,15 @@ struct ContactScratch {
   std::vector<Vec3> face_lo, face_hi;         ///< swept, inflated boxes of the exterior faces
   std::vector<double> face_tol;               ///< depth tolerance of each exterior face, m
   std::vector<Vec3> slave_lo, slave_hi;       ///< boxes of the slaves' segments over the step
+  std::vector<int> queried;                   ///< slaves near another body's faces, ascending
   std::vector<std::size_t> bucket_offset;     ///< spatial hash buckets -> bucket_faces (CSR)
   std::vector<std::size_t> bucket_fill;       ///< fill cursor of each bucket
   std::vector<int> bucket_faces;
   std::vector<ThreadBuffer<std::vector<std::pair<std::uint64_t, int>>>> thread_cells;  ///< (cell hash, face)
   std::vector<ThreadBuffer<std::vector<int>>> thread_faces;  ///< per-thread candidate lists before merging
-  std::vector<int> slave_thread;              ///< thread that searched for each slave
+  std::vector<int> slave_thread;              ///< thread that searched for each queried slave
   std::vector<std::size_t> slave_start;       ///< where in that thread's list its candidates start
-  std::vector<int> contact_face;              ///< face each slave of the current sub-pass hits
+  std::vector<int> contact_face;              ///< face each active slave of the current sub-pass hits
 };
 
 struct Surfaces {

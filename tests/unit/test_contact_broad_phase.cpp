@@ -76,6 +76,7 @@ ContactCandidates bruteForce(const Model& m, double dt, double tol_fraction) {
         if (s.exterior[f].body != nd.body[a] && (lo.array() <= fhi[f].array()).all() &&
             (flo[f].array() <= hi.array()).all())
           c.faces.push_back(static_cast<int>(f));
+      if (c.faces.size() > c.offset.back()) c.active.push_back(static_cast<int>(c.slaves.size()) - 1);
       c.offset.push_back(c.faces.size());
     }
     c.body_begin.push_back(c.slaves.size());
@@ -119,6 +120,7 @@ TEST_CASE("broad phase = brute force on random configurations", "[unit][contact]
       REQUIRE(got.body_begin == ref.body_begin);
       REQUIRE(got.offset == ref.offset);
       REQUIRE(got.faces == ref.faces);
+      REQUIRE(got.active == ref.active);
     }
     total_pairs += ref.faces.size();
   }
@@ -187,6 +189,7 @@ TEST_CASE("broad phase hashes only the faces near another body's slaves", "[unit
     const ContactCandidates& got = m.surfaces.candidates;
     REQUIRE(got.offset == ref.offset);
     REQUIRE(got.faces == ref.faces);
+    REQUIRE(got.active == ref.active);
     // Every hashed face lies on the facing sides (x within 1 mm of the gap at 4 - 4.5 mm).
     const std::vector<int>& hashed = m.surfaces.scratch.bucket_faces;
     REQUIRE(!hashed.empty());
