@@ -81,9 +81,11 @@ void printFiguresOfMerit(const Model& model, std::FILE* out) {
                  t.particle_steps);
   // Verlet lists: a build per step would mean the skin buys nothing.
   if (t.particle_steps > 0)
-    std::fprintf(out, "  neighbour lists  %ld SPH and %ld contact builds in %ld steps, %ld particles re-seated\n",
-                 model.sph.search.verletBuilds(), model.sph.search.contactVerletBuilds(), t.steps,
-                 model.sph.search.verletReseats());
+    std::fprintf(out,
+                 "  neighbour lists  %ld SPH, %ld contact and %ld mirror builds in %ld steps, %ld "
+                 "particles re-seated\n",
+                 model.sph.search.verletBuilds(), model.sph.search.contactVerletBuilds(),
+                 model.sph.search.mirrorVerletBuilds(), t.steps, model.sph.search.verletReseats());
   if (total > 0) {
     std::string split;
     for (int p = 0; p < static_cast<int>(Phase::Count); ++p) {

@@ -78,6 +78,45 @@ void filterCandidates(const std::vector<Vec3>& x, const std::vector<double>& r,
       thread_buf, count, out, &cand.offset);
 }
 
+/// The translation u of each group (each body, or everyone: !per_body) of the particles built
+/// at x_built since the build. The motion is measured relative to it: a pair's distance
+/// changes by at most |d_i - u| + |d_j - u| for any common u, so a body's particles flying on
+/// together force fewer builds (115 -> 86 over 344 steps late in the four-plate quick run).
+/// u is the median displacement, component by component: a few particles flying off fast
+/// (debris) do not move it, as they moved the centre of the box. Any u keeps the lists exact
+/// (only the cost depends on it), so the median of every stride-th particle, some
+/// kShiftSamples of a group, does: the whole group's medians took two thirds of the lists'
+/// upkeep. `comp` is scratch.
+std::vector<Vec3> groupShifts(const std::vector<Vec3>& x, const std::vector<Vec3>& x_built,
+                              const std::vector<int>& body, bool per_body,
+                              std::vector<std::vector<double>>& comp) {
+  const std::size_t n_built = x_built.size();
+  const auto groupOf = [&](std::size_t i) {
+    return per_body ? static_cast<std::size_t>(body[i]) : std::size_t{0};
+  };
+  std::size_t n_groups = 1;
+  if (per_body)
+    for (std::size_t i = 0; i < n_built; ++i) n_groups = std::max(n_groups, groupOf(i) + 1);
+  std::vector<std::size_t> members(n_groups, 0), seen(n_groups, 0);
+  for (std::size_t i = 0; i < n_built; ++i) ++members[groupOf(i)];
+  comp.resize(3 * n_groups);
+  for (auto& v : comp) v.clear();
+  for (std::size_t i = 0; i < n_built; ++i) {
+    const std::size_t g = groupOf(i);
+    if (seen[g]++ % std::max<std::size_t>(1, members[g] / kShiftSamples) != 0) continue;
+    for (int a = 0; a < 3; ++a) comp[3 * g + a].push_back(x[i][a] - x_built[i][a]);
+  }
+  std::vector<Vec3> shift(n_groups, Vec3::Zero());
+  for (std::size_t g = 0; g < n_groups; ++g)
+    for (int a = 0; a < 3; ++a) {
+      std::vector<double>& v = comp[3 * g + static_cast<std::size_t>(a)];
+      if (v.empty()) continue;
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      shift[g][a] = v[v.size() / 2];
+    }
+  return shift;
+}
+
 }  // namespace
 
 std::uint64_t CellGrid::bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
@@ -180,41 +219,12 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
   // make a third of the list, a build sheds the stale pairs the filter keeps testing.
   bool rebuild = !(skin > 0) || (n != n_built && !appended) || (n == n_built && body != body_built) ||
                  3 * pairs_added > candidates.index.size();
-  std::vector<Vec3> shift;  // the translation u of each group since the build (below)
+  std::vector<Vec3> shift;  // the translation u of each group since the build (groupShifts)
   const auto groupOf = [&](std::size_t i) {
     return per_body ? static_cast<std::size_t>(body[i]) : std::size_t{0};
   };
   if (!rebuild) {
-    // The motion is measured relative to a translation u shared by all the particles that can
-    // pair (each body for SPH pairs, everyone for pairs across bodies): a pair's distance
-    // changes by at most |d_i - u| + |d_j - u| for any common u, so a body's particles
-    // flying on together force fewer builds (115 -> 86 over 344 steps late in the four-plate
-    // quick run). u is the median displacement, component by component: a few particles
-    // flying off fast (debris) do not move it, as they moved the centre of the box. Any u
-    // keeps the lists exact (only the cost depends on it), so the median of every stride-th
-    // particle, some kShiftSamples of a group, does: the whole group's medians took two
-    // thirds of the lists' upkeep.
-    std::size_t n_groups = 1;
-    if (per_body)
-      for (std::size_t i = 0; i < n_built; ++i)
-        n_groups = std::max(n_groups, static_cast<std::size_t>(body[i]) + 1);
-    std::vector<std::size_t> members(n_groups, 0), seen(n_groups, 0);
-    for (std::size_t i = 0; i < n_built; ++i) ++members[groupOf(i)];
-    comp.resize(3 * n_groups);
-    for (auto& v : comp) v.clear();
-    for (std::size_t i = 0; i < n_built; ++i) {
-      const std::size_t g = groupOf(i);
-      if (seen[g]++ % std::max<std::size_t>(1, members[g] / kShiftSamples) != 0) continue;
-      for (int a = 0; a < 3; ++a) comp[3 * g + a].push_back(x[i][a] - x_built[i][a]);
-    }
-    shift.assign(n_groups, Vec3::Zero());
-    for (std::size_t g = 0; g < n_groups; ++g)
-      for (int a = 0; a < 3; ++a) {
-        std::vector<double>& v = comp[3 * g + static_cast<std::size_t>(a)];
-        if (v.empty()) continue;
-        std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-        shift[g][a] = v[v.size() / 2];
-      }
+    shift = groupShifts(x, x_built, body, per_body, comp);
     const auto shiftOf = [&](std::size_t i) -> const Vec3& { return shift[groupOf(i)]; };
     const auto pastMargin = [&](std::size_t i) {
       const double drift =
@@ -503,6 +513,125 @@ void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<d
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
       thread_index_, count_, out, &mirror_work_);
+}
+
+void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                       const std::vector<int>& body, const Reflection& image,
+                                       bool same_body, std::size_t which, double skin,
+                                       NeighbourList& out) {
+  const std::size_t slot = 2 * which + (same_body ? 0 : 1);
+  if (mirror_verlet_.size() <= slot) mirror_verlet_.resize(slot + 1);
+  MirrorVerlet& m = mirror_verlet_[slot];
+  const std::size_t n = x.size(), n_built = m.x_built.size();
+  double r_max = 0;
+  for (double ri : r) r_max = std::max(r_max, ri);
+  // mirrorRows' own test of the points it searches (within 2 max(r) of every plane)
+  const auto nearPlanes = [&](const Vec3& p, double reach) {
+    for (int a = 0; a < 3; ++a)
+      if (image.flip[a] && !(std::abs(2.0 * p[a] - image.twice_position[a]) < 2.0 * reach))
+        return false;
+    return true;
+  };
+  // Every built point on the same side of every plane of the image: then a pair within
+  // r_i + r_j of the image is within that of every plane (|x_i - M x_j| >= |d_i + d_j| =
+  // |d_i| + |d_j| on a flipped axis), so mirrorRows' search finds all of them.
+  const auto sameSide = [&](const Vec3& p) {
+    for (int a = 0; a < 3; ++a) {
+      if (!image.flip[a]) continue;
+      const double d = 2.0 * p[a] - image.twice_position[a];
+      if (d != 0 && (d > 0) != m.positive[a]) return false;
+    }
+    return true;
+  };
+  bool same_image = true;
+  for (int a = 0; a < 3; ++a)
+    same_image = same_image && image.flip[a] == m.image.flip[a] &&
+                 (!image.flip[a] || image.twice_position[a] == m.image.twice_position[a]);
+  bool rebuild = !(skin > 0) || !m.one_side || n_built == 0 || n < n_built || !same_image ||
+                 !std::equal(m.body_built.begin(), m.body_built.end(), body.begin());
+  if (!rebuild) {
+    // A pair of points near the planes now (the only ones mirrorRows pairs) was a candidate
+    // as long as neither moved, relative to the translation of its body (same body) or of
+    // all (pairs across bodies), plus grew by more than its margin skin/2 r_built (triangle
+    // inequality, M being an isometry). The translation keeps no component across a plane:
+    // M u = u, so it leaves |x_i - M x_j| unchanged.
+    std::vector<Vec3> shift = groupShifts(x, m.x_built, body, same_body, m.comp);
+    const auto groupOf = [&](std::size_t i) {
+      return same_body ? static_cast<std::size_t>(body[i]) : std::size_t{0};
+    };
+    for (Vec3& u : shift)
+      for (int a = 0; a < 3; ++a)
+        if (image.flip[a]) u[a] = 0;
+    long past = 0;
+    const long nb = static_cast<long>(n_built);
+#pragma omp parallel for schedule(static) reduction(+ : past)
+    for (long k = 0; k < nb; ++k) {
+      const std::size_t i = static_cast<std::size_t>(k);
+      if (!nearPlanes(x[i], 2.0 * r_max)) continue;
+      const double drift = (x[i] - m.x_built[i] - shift[groupOf(i)]).norm() +
+                           std::max(0.0, r[i] - m.r_built[i]);
+      past += !(drift <= 0.99 * 0.5 * skin * m.r_built[i]);
+    }
+    rebuild = past > 0;
+    // Points appended since the build (conversions) get empty rows, built where they would
+    // be had they moved with their body, as long as they are too far from a plane to pair
+    // with any built point at its widened range, and no wider than the widest.
+    for (std::size_t i = n_built; i < n && !rebuild; ++i) {
+      const double wide = (1.0 + 0.5 * skin) * r[i];
+      rebuild = wide > m.r_wide_max || !sameSide(x[i]) ||
+                nearPlanes(x[i], 1.01 * (wide + m.r_wide_max));  // 1.01: room for round-off
+    }
+    if (!rebuild && n > n_built) {
+      for (std::size_t i = n_built; i < n; ++i) {
+        const std::size_t g = groupOf(i);
+        m.x_built.push_back(g < shift.size() ? Vec3(x[i] - shift[g]) : x[i]);
+        m.r_built.push_back(r[i]);
+        m.r_wide.push_back((1.0 + 0.5 * skin) * r[i]);
+      }
+      m.body_built = body;
+      m.candidates.offset.resize(n + 1, m.candidates.offset.back());
+    }
+  }
+  if (rebuild) {
+    m.image = image;
+    m.x_built = x;
+    m.r_built = r;
+    m.body_built = body;
+    m.r_wide.resize(n);
+    m.r_wide_max = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      m.r_wide[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * r[i];
+      m.r_wide_max = std::max(m.r_wide_max, m.r_wide[i]);
+    }
+    for (int a = 0; a < 3; ++a) {  // the side of the first point off each plane
+      m.positive[a] = true;
+      for (std::size_t i = 0; i < n && image.flip[a]; ++i) {
+        const double d = 2.0 * x[i][a] - image.twice_position[a];
+        if (d != 0) {
+          m.positive[a] = d > 0;
+          break;
+        }
+      }
+    }
+    m.one_side = true;
+    for (std::size_t i = 0; i < n && m.one_side; ++i) m.one_side = sameSide(x[i]);
+    mirrorRows(x, m.r_wide, body, image, same_body, m.candidates);
+    ++m.builds;
+  }
+  // mirrorRows' rows from the candidates (of the bodies it pairs): its test, on points it
+  // searches.
+  buildRows(
+      n,
+      [&](std::size_t i, std::vector<int>& buf) {
+        if (!nearPlanes(x[i], 2.0 * r_max)) return;
+        for (std::size_t k = m.candidates.offset[i]; k < m.candidates.offset[i + 1]; ++k) {
+          const int j = m.candidates.index[k];
+          const double reach = r[i] + r[j];
+          if (nearPlanes(x[j], 2.0 * r_max) && (x[i] - image.point(x[j])).squaredNorm() < reach * reach)
+            buf.push_back(j);
+        }
+      },
+      thread_index_, count_, out, &m.candidates.offset);
 }
 
 void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,

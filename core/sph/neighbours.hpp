@@ -100,11 +100,29 @@ class NeighbourSearch {
                   const std::vector<int>& body, const Reflection& image, bool same_body,
                   NeighbourList& out);
 
+  /// mirrorRows through a Verlet list, one for each image (`which`) and kind of pair
+  /// (same_body), as sphNeighboursVerlet: candidates within the ranges widened by
+  /// (1 + skin/2), filtered at every call with mirrorRows' own tests, so `out` is bit for bit
+  /// the rows mirrorRows gives. Built afresh when a point near the planes has moved (relative
+  /// to its body's translation along the planes, or everyone's for pairs across bodies) or
+  /// grown by more than its share of the skin, when a point is appended near the planes, or
+  /// when the points are not all on one side of each plane.
+  void mirrorRowsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
+                        const std::vector<int>& body, const Reflection& image, bool same_body,
+                        std::size_t which, double skin, NeighbourList& out);
+  /// Builds of the mirror images' Verlet lists so far.
+  long mirrorVerletBuilds() const {
+    long builds = 0;
+    for (const MirrorVerlet& m : mirror_verlet_) builds += m.builds;
+    return builds;
+  }
+
   /// Forget the Verlet candidates (the particles were renumbered): the next calls build
   /// them afresh.
   void forgetCandidates() {
     sph_.x_built.clear();
     contact_.x_built.clear();
+    for (MirrorVerlet& m : mirror_verlet_) m.x_built.clear();
   }
 
  private:
@@ -134,6 +152,19 @@ class NeighbourSearch {
     bool update(const std::vector<Vec3>& x, const std::vector<double>& r,
                 const std::vector<int>& body, double skin, bool per_body);
   };
+  /// The Verlet list of one mirror image's rows (mirrorRowsVerlet).
+  struct MirrorVerlet {
+    Reflection image;  ///< the image the candidates were built for
+    NeighbourList candidates;
+    std::vector<Vec3> x_built;
+    std::vector<double> r_built, r_wide;
+    std::vector<int> body_built;
+    double r_wide_max = 0;
+    bool positive[3] = {true, true, true};  ///< the side of each plane the points are on
+    bool one_side = false;                  ///< all built points on that side (or on it)
+    long builds = 0;
+    std::vector<std::vector<double>> comp;  ///< groupShifts' scratch
+  };
   /// Pair the particles `again` (ascending) at their built positions with all the others:
   /// the candidate pairs they lack are added, the rows staying ascending (same body: full
   /// rows; cross: a pair in the row of its lower partner). Rows for particles appended since
@@ -154,6 +185,7 @@ class NeighbourSearch {
   std::vector<std::size_t> count_;
   NeighbourList rows_;                              ///< contact pairs as rows
   Verlet sph_, contact_;
+  std::vector<MirrorVerlet> mirror_verlet_;
 };
 
 /// O(N^2) reference for sphNeighbours, for tests.

@@ -409,8 +409,10 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   ws.pair_stab.resize(ws.neighbours.pairs());
   ws.pair_last_slot.resize(ws.neighbours.pairs());
   prepareMirrors(model, ws);
-  for (MirrorImage& mi : ws.mirrors) {
-    ws.search.mirrorRows(pa.x, pa.h, pa.body, mi.map, true, mi.neighbours);
+  for (std::size_t m = 0; m < ws.mirrors.size(); ++m) {
+    MirrorImage& mi = ws.mirrors[m];
+    ws.search.mirrorRowsVerlet(pa.x, pa.h, pa.body, mi.map, true, m, ws.controls.verlet_skin,
+                               mi.neighbours);
     mi.grad.resize(mi.neighbours.pairs());
     mi.grad_prev.resize(mi.neighbours.pairs());
   }
@@ -466,8 +468,9 @@ void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
   ws.search.crossBodyPairsVerlet(pa.x, ws.contact_radius, pa.body, kContactVerletSkin,
                                  ws.contact_pairs);
   prepareMirrors(model, ws);
-  for (MirrorImage& mi : ws.mirrors)
-    ws.search.mirrorRows(pa.x, ws.contact_radius, pa.body, mi.map, false, mi.contact);
+  for (std::size_t m = 0; m < ws.mirrors.size(); ++m)
+    ws.search.mirrorRowsVerlet(pa.x, ws.contact_radius, pa.body, ws.mirrors[m].map, false, m,
+                               kContactVerletSkin, ws.mirrors[m].contact);
 
   // Johnson-Stryk style kinematic correction, Gauss-Seidel over the pairs in a fixed order:
   // a pair that would end the step closer than (d_i + d_j)/2 gets the normal relative velocity

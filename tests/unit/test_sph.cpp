@@ -321,6 +321,104 @@ TEST_CASE("sph Verlet list follows a body flying on together: exact, and few bui
   CHECK(search.verletBuilds() > builds_before_jump);  // the jump of a third did force one
 }
 
+/// mirrorRows' contract by brute force: row i holds the j (ascending) with
+/// |x_i - M x_j| < r_i + r_j, of i's body (i itself included) or of another body with j > i.
+NeighbourList mirrorRowsBruteForce(const std::vector<Vec3>& x, const std::vector<double>& r,
+                                   const std::vector<int>& body, const Reflection& image,
+                                   bool same_body) {
+  NeighbourList rows;
+  rows.offset.assign(1, 0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      const bool take = same_body ? body[j] == body[i] : body[j] != body[i] && j > i;
+      const double reach = r[i] + r[j];
+      if (take && (x[i] - image.point(x[j])).squaredNorm() < reach * reach)
+        rows.index.push_back(static_cast<int>(j));
+    }
+    rows.offset.push_back(rows.index.size());
+  }
+  return rows;
+}
+
+TEST_CASE("sph mirror rows through Verlet lists equal a fresh search", "[unit][sph]") {
+  // Reference: mirrorRows afresh, and the brute force of its contract, at every call (exact
+  // equality of the rows), for the image of the plane y = 0 and that of the planes x = 0 and
+  // y = 0, pairs of a body and across bodies. The two-body cloud on the positive side of both
+  // planes drifts by 0.02 h per call and body 0 also flies along z at 0.2 h per call (along
+  // the planes, so its translation keeps the lists); h grows 0.5 % per call. At call 12, 20
+  // particles are appended far from the planes (they keep the lists), at call 18 five near
+  // them (they force a build). The lists must be reused: fewer builds than a third of the
+  // calls (pairs across bodies have one translation for all, and body 0 flies past their
+  // margin every 5 calls).
+  DriftingCloud c = driftingCloud(5, Vec3(0, 0, 0.2 * 0.4e-3));
+  for (Vec3& p : c.x) p = p.cwiseAbs();  // the cloud on the positive side of both planes
+  Reflection y_plane, xy_planes;
+  y_plane.flip[1] = true;
+  xy_planes.flip[0] = xy_planes.flip[1] = true;
+  NeighbourSearch search;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 3e-3);
+  const int calls = 24;
+  std::size_t pairs = 0;
+  for (int k = 0; k < calls; ++k) {
+    if (k == 12 || k == 18) {
+      for (int b = 0; b < (k == 12 ? 20 : 5); ++b) {
+        const double off = k == 12 ? 1e-3 + u(rng) / 3 : 0.3 * u(rng) / 3;  // m from y = 0
+        c.x.emplace_back(2e-3 + u(rng) / 3, off, u(rng));
+        c.h.push_back(0.4e-3);
+        c.body.push_back(b % 2);
+        c.drift.push_back(Vec3(0, 0, b % 2 == 0 ? 0.2 * 0.4e-3 : 0.0));
+      }
+    }
+    std::size_t which = 0;
+    for (const Reflection* image : {&y_plane, &xy_planes}) {
+      for (bool same_body : {true, false}) {
+        NeighbourList verlet, fresh;
+        const double skin = same_body ? 0.3 : 2.0;  // as the SPH and contact lists have them
+        search.mirrorRowsVerlet(c.x, c.h, c.body, *image, same_body, which, skin, verlet);
+        search.mirrorRows(c.x, c.h, c.body, *image, same_body, fresh);
+        const NeighbourList brute = mirrorRowsBruteForce(c.x, c.h, c.body, *image, same_body);
+        INFO("call " << k << ", image " << which << ", same body " << same_body << ": "
+                     << fresh.pairs() << " pairs, " << search.mirrorVerletBuilds() << " builds");
+        REQUIRE(fresh.offset == brute.offset);
+        REQUIRE(fresh.index == brute.index);
+        REQUIRE(verlet.offset == fresh.offset);
+        REQUIRE(verlet.index == fresh.index);
+        pairs += fresh.pairs();
+      }
+      ++which;
+    }
+    for (std::size_t i = 0; i < c.x.size(); ++i) {
+      c.x[i] = (c.x[i] + c.drift[i]).cwiseAbs();  // drifts stay on the positive side
+      c.h[i] *= 1.005;
+    }
+  }
+  INFO(search.mirrorVerletBuilds() << " builds of 4 lists in " << calls << " calls");
+  CHECK(pairs > 100 * calls);
+  CHECK(search.mirrorVerletBuilds() > 4);  // the five appended near the planes force builds
+  CHECK(search.mirrorVerletBuilds() < 4 * calls / 3);
+}
+
+TEST_CASE("sph mirror rows through a Verlet list with points on both sides of the plane",
+          "[unit][sph]") {
+  // Points on both sides: a pair within reach of the image need not be near the plane, so
+  // the list is built afresh at every call; it still equals mirrorRows (reference).
+  DriftingCloud c = driftingCloud(9, Vec3::Zero());
+  Reflection y_plane;
+  y_plane.flip[1] = true;
+  NeighbourSearch search;
+  for (int k = 0; k < 4; ++k) {
+    NeighbourList verlet, fresh;
+    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, true, 0, 0.3, verlet);
+    search.mirrorRows(c.x, c.h, c.body, y_plane, true, fresh);
+    REQUIRE(fresh.pairs() > 0);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+    for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i];
+  }
+  CHECK(search.mirrorVerletBuilds() == 4);
+}
+
 TEST_CASE("sph Verlet list pairs particles born into a body flying on together",
           "[unit][sph]") {
   // Reference: sphNeighboursBruteForce at every call (exact equality of the lists), and all
