@@ -100,14 +100,14 @@ bool updateKinematicsAndTrial(Model& model, std::size_t e, double dt, PassAScrat
 
 // Bulk viscosity (compression only) and the stable step l / (Q + sqrt(Q^2 + c^2)). The
 // volumetric stiffness the element sees blends its nodes' average (ANP) and its own: the wave
-// speed is the matching blend of the tangents at the two densities.
-void viscosityAndStableStep(Model& model, std::size_t e, double rho_avg, double own_fraction) {
+// speed is the matching blend of the tangents at the two densities (EOS at each: avg, own).
+void viscosityAndStableStep(Model& model, std::size_t e, const EosAtDensity& avg,
+                            const EosAtDensity& own, double own_fraction) {
   Elements& el = model.elems;
-  const Material& mat = model.materials[el.material[e]];
   const SolverControls& ctl = model.controls;
   const double trD = el.div_v[e], len = el.len[e];
-  const double c_wave = std::sqrt((1 - own_fraction) * waveSpeedSquared(mat, rho_avg) +
-                                  own_fraction * waveSpeedSquared(mat, el.rho[e]));
+  const double c_wave = std::sqrt((1 - own_fraction) * avg.wave_speed_sq +
+                                  own_fraction * own.wave_speed_sq);
   el.q[e] = trD < 0 ? el.rho[e] * len * (ctl.bulk_quadratic * len * trD * trD -
                                          ctl.bulk_linear * c_wave * trD)
                     : 0.0;
@@ -137,15 +137,17 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
     rho_vol = mat.rho0 / (0.25 * J);
     own = model.controls.anp_element_fraction;
   }
-  viscosityAndStableStep(model, e, rho_vol, own);
+  const EosAtDensity eos_avg = eosAtDensity(mat, rho_vol);
+  const EosAtDensity eos_own = anp ? eosAtDensity(mat, el.rho[e]) : eos_avg;  // same density
+  viscosityAndStableStep(model, e, eos_avg, eos_own, own);
   // Energy over the interval, trapezoidal in pressure: one predictor, one corrector,
   // since the Mie-Grueneisen pressure depends on the energy it updates.
   const double dV = el.dV[e];
   const double p_old = st.p, q = el.q[e];
   auto pressure = [&](double e_spec) {
-    const double p_avg = eosPressure(mat, rho_vol, e_spec, st.damage);
+    const double p_avg = eos_avg.pressure(mat, e_spec, st.damage);
     return own == 1.0 ? p_avg
-                      : (1 - own) * p_avg + own * eosPressure(mat, el.rho[e], e_spec, st.damage);
+                      : (1 - own) * p_avg + own * eos_own.pressure(mat, e_spec, st.damage);
   };
   double p_new = pressure(st.e - (p_old + q) * dV / mass);
   const double vol_work = -(0.5 * (p_old + p_new) + q) * dV;

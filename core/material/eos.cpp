@@ -30,37 +30,42 @@ double clampCompression(const Material& mat, double eta) {
 ///   eta <= 0: p = rho0 c0^2 eta + Gamma0 rho0 e
 /// with Gamma rho = Gamma0 rho0 held constant. p in Pa, rho in kg/m^3, e in J/kg.
 /// A fully damaged point (damage >= 1) takes no tension: p < 0 becomes 0.
-double eosPressure(const Material& mat, double rho, double e, double damage) {
-  double p;
-  if (mat.eos == EosModel::Linear) {
-    p = mat.K * (rho / mat.rho0 - 1.0);
-  } else {
-    const double eta = clampCompression(mat, 1.0 - mat.rho0 / rho);
-    const double rc2 = mat.rho0 * mat.c0 * mat.c0;
-    if (eta > 0.0) {
-      const double den = 1.0 - mat.s * eta;
-      const double pH = rc2 * eta / (den * den);
-      const double eH = pH * eta / (2.0 * mat.rho0);
-      p = pH + mat.gamma0 * mat.rho0 * (e - eH);
-    } else {
-      p = rc2 * eta + mat.gamma0 * mat.rho0 * e;
-    }
-  }
-  return damage >= 1.0 ? std::max(p, 0.0) : p;
-}
-
+///
 /// c_L^2 = (K_t + 4G/3) / rho (m^2/s^2). K_t is the bulk tangent: K for the linear EOS; for
 /// Mie-Grueneisen rho0 c0^2 (1 + s eta)/(1 - s eta)^3 = d p_H / d eta, at least rho0 c0^2.
 /// On the Hugoniot this is above the isentropic sound speed (by 3% at eta = 0.05, 7% at 0.1,
 /// 17% at 0.2 for steel), so it is a safe upper estimate for the explicit time step.
-double waveSpeedSquared(const Material& mat, double rho) {
-  double Kt = mat.K;
-  if (mat.eos == EosModel::MieGruneisen) {
-    const double eta = std::max(0.0, clampCompression(mat, 1.0 - mat.rho0 / rho));
-    const double den = 1.0 - mat.s * eta;
-    Kt = mat.rho0 * mat.c0 * mat.c0 * (1.0 + mat.s * eta) / (den * den * den);
+EosAtDensity eosAtDensity(const Material& mat, double rho) {
+  EosAtDensity at;
+  if (mat.eos == EosModel::Linear) {
+    at.p_ref = mat.K * (rho / mat.rho0 - 1.0);
+    at.wave_speed_sq = (mat.K + 4.0 * mat.G / 3.0) / rho;
+    return at;
   }
-  return (Kt + 4.0 * mat.G / 3.0) / rho;
+  const double eta = clampCompression(mat, 1.0 - mat.rho0 / rho);
+  const double rc2 = mat.rho0 * mat.c0 * mat.c0;
+  if (eta > 0.0) {
+    const double den = 1.0 - mat.s * eta;
+    at.branch = EosAtDensity::Branch::Compressed;
+    at.p_ref = rc2 * eta / (den * den);
+    at.e_ref = at.p_ref * eta / (2.0 * mat.rho0);
+  } else {
+    at.branch = EosAtDensity::Branch::Expanded;
+    at.p_ref = rc2 * eta;
+  }
+  const double eta_t = std::max(0.0, eta);  // the tangent is taken at least at rho0
+  const double den_t = 1.0 - mat.s * eta_t;
+  const double Kt = rc2 * (1.0 + mat.s * eta_t) / (den_t * den_t * den_t);
+  at.wave_speed_sq = (Kt + 4.0 * mat.G / 3.0) / rho;
+  return at;
+}
+
+double eosPressure(const Material& mat, double rho, double e, double damage) {
+  return eosAtDensity(mat, rho).pressure(mat, e, damage);
+}
+
+double waveSpeedSquared(const Material& mat, double rho) {
+  return eosAtDensity(mat, rho).wave_speed_sq;
 }
 
 double waveSpeed(const Material& mat, double rho) { return std::sqrt(waveSpeedSquared(mat, rho)); }

@@ -6,6 +6,7 @@
 
 #include "core/common/types.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 
@@ -94,6 +95,25 @@ double eosPressure(const Material& mat, double rho, double e, double damage = 0.
 double waveSpeed(const Material& mat, double rho);
 /// Its square, m^2/s^2: blends of wave speeds are taken on c^2, without two square roots.
 double waveSpeedSquared(const Material& mat, double rho);
+
+/// The EOS at one density: the terms of eosPressure that do not depend on the energy, and
+/// waveSpeedSquared, each taken once for a point's predictor and corrector pressures (their
+/// divisions were most of those calls). The same bits as eosPressure and waveSpeedSquared.
+struct EosAtDensity {
+  enum class Branch { Linear, Compressed, Expanded };
+  Branch branch = Branch::Linear;
+  double p_ref = 0;          ///< Pa: K mu (linear), p_H (compressed), rho0 c0^2 eta (expanded)
+  double e_ref = 0;          ///< J/kg: e_H on the Hugoniot (compressed)
+  double wave_speed_sq = 0;  ///< waveSpeedSquared, m^2/s^2
+  /// eosPressure at specific internal energy e (J/kg).
+  double pressure(const Material& mat, double e, double damage) const {
+    double p = p_ref;
+    if (branch == Branch::Compressed) p = p_ref + mat.gamma0 * mat.rho0 * (e - e_ref);
+    if (branch == Branch::Expanded) p = p_ref + mat.gamma0 * mat.rho0 * e;
+    return damage >= 1.0 ? std::max(p, 0.0) : p;
+  }
+};
+EosAtDensity eosAtDensity(const Material& mat, double rho);
 
 /// A point whose elastic trial stress lies outside the yield surface, between its trial
 /// (trialDeviatoricStress) and its radial return (completeReturns).

@@ -234,14 +234,14 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   st.e += 0.5 * (Vp * s_old.dot(Dp) + Vc * st.s.dot(Dc)) * dt / mass;
   const double dv_old = Vp * Dp.trace() * dt, dv_new = Vc * Dc.trace() * dt;  // m^3
   const double p_old = st.p;
-  double p_new =
-      eosPressure(mat, pa.rho[i], st.e - 0.5 * p_old * (dv_old + dv_new) / mass, st.damage);
+  const EosAtDensity eos = eosAtDensity(mat, pa.rho[i]);
+  double p_new = eos.pressure(mat, st.e - 0.5 * p_old * (dv_old + dv_new) / mass, st.damage);
   st.e -= 0.5 * (p_old * dv_old + p_new * dv_new) / mass;
-  p_new = eosPressure(mat, pa.rho[i], st.e, st.damage);
+  p_new = eos.pressure(mat, st.e, st.damage);
   st.p = p_new;
 
   cur.rho[i] = pa.rho[i];
-  cur.c[i] = waveSpeed(mat, pa.rho[i]);
+  cur.c[i] = std::sqrt(eos.wave_speed_sq);  // waveSpeed
   cur.d[i] = std::cbrt(Vc);
   Mat3 sigma = st.s.matrix();
   sigma.diagonal().array() -= st.p;
