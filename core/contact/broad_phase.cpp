@@ -228,7 +228,8 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     }
   }
   for (std::size_t q = 0; q < nq; ++q)
-    if (out.offset[static_cast<std::size_t>(w.queried[q]) + 1] > 0) out.active.push_back(w.queried[q]);
+    if (out.offset[static_cast<std::size_t>(w.queried[q]) + 1] > 0)
+      out.active.push_back(w.queried[q]);
   for (std::size_t i = 0; i < nslaves; ++i) out.offset[i + 1] += out.offset[i];
   out.faces.resize(out.offset[nslaves]);
 #pragma omp parallel for schedule(static) if (nq > 256)

@@ -627,7 +627,8 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
         for (std::size_t k = m.candidates.offset[i]; k < m.candidates.offset[i + 1]; ++k) {
           const int j = m.candidates.index[k];
           const double reach = r[i] + r[j];
-          if (nearPlanes(x[j], 2.0 * r_max) && (x[i] - image.point(x[j])).squaredNorm() < reach * reach)
+          if (nearPlanes(x[j], 2.0 * r_max) &&
+              (x[i] - image.point(x[j])).squaredNorm() < reach * reach)
             buf.push_back(j);
         }
       },

@@ -47,7 +47,7 @@ struct ContactCandidates {
   std::vector<std::size_t> body_begin;  ///< body b: slaves[body_begin[b], body_begin[b + 1])
   std::vector<std::size_t> offset;  ///< candidates of slaves[i]: faces[offset[i], offset[i+1])
   std::vector<int> faces;           ///< exterior face indices, ascending per slave
-  std::vector<int> active;          ///< the slaves (indices into `slaves`) with candidates, ascending
+  std::vector<int> active;          ///< slaves (indices into `slaves`) with candidates, ascending
 };
 
 /// Scratch of the contact search and correction, kept so the step allocates nothing.
@@ -63,7 +63,7 @@ struct ContactScratch {
   std::vector<ThreadBuffer<std::vector<int>>> thread_faces;  ///< per-thread candidate lists before merging
   std::vector<int> slave_thread;              ///< thread that searched for each queried slave
   std::vector<std::size_t> slave_start;       ///< where in that thread's list its candidates start
-  std::vector<int> contact_face;              ///< face each active slave of the current sub-pass hits
+  std::vector<int> contact_face;              ///< face each active slave of a sub-pass hits
 };
 
 struct Surfaces {

@@ -76,7 +76,8 @@ ContactCandidates bruteForce(const Model& m, double dt, double tol_fraction) {
         if (s.exterior[f].body != nd.body[a] && (lo.array() <= fhi[f].array()).all() &&
             (flo[f].array() <= hi.array()).all())
           c.faces.push_back(static_cast<int>(f));
-      if (c.faces.size() > c.offset.back()) c.active.push_back(static_cast<int>(c.slaves.size()) - 1);
+      if (c.faces.size() > c.offset.back())
+        c.active.push_back(static_cast<int>(c.slaves.size()) - 1);
       c.offset.push_back(c.faces.size());
     }
     c.body_begin.push_back(c.slaves.size());
