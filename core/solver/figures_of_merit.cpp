@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/solver/figures_of_merit.hpp"
 
+#include "core/common/heap_bytes.hpp"
+
 #include <sys/resource.h>
 
 #include <string>
@@ -9,21 +11,9 @@ namespace fesph {
 
 namespace {
 
-template <class T>
-std::size_t bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
-
-template <class T>
-std::size_t bytes(const std::vector<std::vector<T>>& v) {
-  std::size_t b = v.capacity() * sizeof(std::vector<T>);
-  for (const std::vector<T>& inner : v) b += bytes(inner);
-  return b;
-}
-
-template <class T, class... Rest>
-std::size_t bytes(const T& first, const Rest&... rest) {
-  return bytes(first) + bytes(rest...);
+template <class... T>
+std::size_t bytes(const T&... containers) {
+  return heapBytes(containers...);
 }
 
 std::size_t snapshotBytes(const SphSnapshot& s) {
@@ -58,7 +48,7 @@ Footprint modelFootprint(const Model& m) {
                 snapshotBytes(ws.current) + snapshotBytes(ws.previous) +
                 bytes(ws.corrected, ws.velocity_grad, ws.velocity_grad_prev, ws.stress_b) +
                 bytes(ws.plastic_work, ws.av_work, ws.contact_radius, ws.contact_spacing) +
-                bytes(ws.contact_pairs);
+                bytes(ws.contact_pairs) + ws.search.bytes();
   return f;
 }
 

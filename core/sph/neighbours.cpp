@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/sph/neighbours.hpp"
 
+#include "core/common/heap_bytes.hpp"
 #include "core/common/omp_threads.hpp"
 
 #include <algorithm>
@@ -633,6 +634,28 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
         }
       },
       thread_index_, count_, out, &m.candidates.offset);
+}
+
+std::size_t CellGrid::bytes() const { return heapBytes(start_, sorted_); }
+
+std::size_t NeighbourSearch::Verlet::bytes() const {
+  return heapBytes(candidates.offset, candidates.index, x_built, r_built, r_wide, body_built) +
+         heapBytes(reseated, merged.offset, merged.index, add_offset, add, comp, is_past);
+}
+
+std::size_t NeighbourSearch::MirrorVerlet::bytes() const {
+  return heapBytes(candidates.offset, candidates.index, x_built, r_built, r_wide, body_built) +
+         heapBytes(comp);
+}
+
+std::size_t NeighbourSearch::bytes() const {
+  std::size_t b = sph_.bytes() + contact_.bytes() + mirror_grid_.bytes() +
+                  heapBytes(mirror_ids_, mirror_work_, ids_, thread_index_, count_) +
+                  heapBytes(rows_.offset, rows_.index);
+  for (const CellGrid& g : grids_) b += g.bytes();
+  for (const auto& t : thread_index_) b += heapBytes(t.items);
+  for (const MirrorVerlet& m : mirror_verlet_) b += m.bytes();
+  return b;
 }
 
 void sphNeighboursBruteForce(const std::vector<Vec3>& x, const std::vector<double>& h,

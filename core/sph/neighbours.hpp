@@ -43,6 +43,8 @@ class CellGrid {
   }
 
   bool empty() const { return sorted_.empty(); }
+  /// Bytes of its storage.
+  std::size_t bytes() const;
 
  private:
   std::uint64_t bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const;
@@ -117,6 +119,9 @@ class NeighbourSearch {
     return builds;
   }
 
+  /// Bytes of the storage kept between calls (Verlet lists, grids, scratch).
+  std::size_t bytes() const;
+
   /// Forget the Verlet candidates (the particles were renumbered): the next calls build
   /// them afresh.
   void forgetCandidates() {
@@ -151,6 +156,7 @@ class NeighbourSearch {
     /// per_body: pairs only form within a body (its translation is then its own).
     bool update(const std::vector<Vec3>& x, const std::vector<double>& r,
                 const std::vector<int>& body, double skin, bool per_body);
+    std::size_t bytes() const;
   };
   /// The Verlet list of one mirror image's rows (mirrorRowsVerlet).
   struct MirrorVerlet {
@@ -164,6 +170,7 @@ class NeighbourSearch {
     bool one_side = false;                  ///< all built points on that side (or on it)
     long builds = 0;
     std::vector<std::vector<double>> comp;  ///< groupShifts' scratch
+    std::size_t bytes() const;
   };
   /// Pair the particles `again` (ascending) at their built positions with all the others:
   /// the candidate pairs they lack are added, the rows staying ascending (same body: full
