@@ -574,23 +574,56 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
       past += !(drift <= 0.99 * 0.5 * skin * m.r_built[i]);
     }
     rebuild = past > 0;
-    // Points appended since the build (conversions) get empty rows, built where they would
-    // be had they moved with their body, as long as they are too far from a plane to pair
-    // with any built point at its widened range, and no wider than the widest.
-    for (std::size_t i = n_built; i < n && !rebuild; ++i) {
-      const double wide = (1.0 + 0.5 * skin) * r[i];
-      rebuild = wide > m.r_wide_max || !sameSide(x[i]) ||
-                nearPlanes(x[i], 1.01 * (wide + m.r_wide_max));  // 1.01: room for round-off
-    }
+    // Points appended since the build (conversions), on the side of the others and no wider
+    // than the widest, are built where they would be had they moved with their body, and
+    // paired there with the built points near the planes (`band`: the only ones a pair at
+    // the widened ranges can hold), as a build would pair them.
+    for (std::size_t i = n_built; i < n && !rebuild; ++i)
+      rebuild = (1.0 + 0.5 * skin) * r[i] > m.r_wide_max || !sameSide(x[i]);
     if (!rebuild && n > n_built) {
+      std::vector<std::pair<int, int>>& added = m.added;  // (row, partner), ascending per row
+      added.clear();
       for (std::size_t i = n_built; i < n; ++i) {
         const std::size_t g = groupOf(i);
         m.x_built.push_back(g < shift.size() ? Vec3(x[i] - shift[g]) : x[i]);
         m.r_built.push_back(r[i]);
         m.r_wide.push_back((1.0 + 0.5 * skin) * r[i]);
+        const Vec3& xi = m.x_built[i];
+        if (!nearPlanes(xi, 2.0 * m.r_wide_max)) continue;
+        const int ii = static_cast<int>(i);
+        for (int j : m.band) {
+          const bool take = same_body ? body[j] == body[i] : body[j] != body[i];
+          const double reach = m.r_wide[i] + m.r_wide[static_cast<std::size_t>(j)];
+          if (!take || !((xi - image.point(m.x_built[j])).squaredNorm() < reach * reach)) continue;
+          added.emplace_back(j, ii);                  // j < i: at the end of j's row
+          if (same_body) added.emplace_back(ii, j);  // i's own row, ascending
+        }
+        const double reach = 2.0 * m.r_wide[i];
+        if (same_body && (xi - image.point(xi)).squaredNorm() < reach * reach)
+          added.emplace_back(ii, ii);  // i with its own image
+        m.band.push_back(ii);
       }
       m.body_built = body;
-      m.candidates.offset.resize(n + 1, m.candidates.offset.back());
+      // The additions by row (a stable counting sort), each row's after its own entries.
+      NeighbourList& c = m.candidates;
+      std::vector<std::size_t> add_offset(n + 1, 0);
+      for (const auto& e : added) ++add_offset[static_cast<std::size_t>(e.first) + 1];
+      for (std::size_t k = 0; k < n; ++k) add_offset[k + 1] += add_offset[k];
+      std::vector<int> add(added.size());
+      std::vector<std::size_t> fill(add_offset.begin(), add_offset.end() - 1);
+      for (const auto& e : added) add[fill[static_cast<std::size_t>(e.first)]++] = e.second;
+      c.offset.resize(n + 1, c.offset.back());
+      std::vector<int> index(c.index.size() + add.size());
+      for (std::size_t k = 0; k < n; ++k) {
+        const auto out_row = index.begin() + static_cast<std::ptrdiff_t>(c.offset[k] + add_offset[k]);
+        const auto after = std::copy(c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[k]),
+                                     c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[k + 1]),
+                                     out_row);
+        std::copy(add.begin() + static_cast<std::ptrdiff_t>(add_offset[k]),
+                  add.begin() + static_cast<std::ptrdiff_t>(add_offset[k + 1]), after);
+      }
+      for (std::size_t k = 0; k <= n; ++k) c.offset[k] += add_offset[k];
+      c.index.swap(index);
     }
   }
   if (rebuild) {
@@ -616,6 +649,9 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
     }
     m.one_side = true;
     for (std::size_t i = 0; i < n && m.one_side; ++i) m.one_side = sameSide(x[i]);
+    m.band.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (nearPlanes(x[i], 2.0 * m.r_wide_max)) m.band.push_back(static_cast<int>(i));
     mirrorRows(x, m.r_wide, body, image, same_body, m.candidates);
     ++m.builds;
   }
@@ -645,7 +681,7 @@ std::size_t NeighbourSearch::Verlet::bytes() const {
 
 std::size_t NeighbourSearch::MirrorVerlet::bytes() const {
   return heapBytes(candidates.offset, candidates.index, x_built, r_built, r_wide, body_built) +
-         heapBytes(comp);
+         heapBytes(band, added, comp);
 }
 
 std::size_t NeighbourSearch::bytes() const {

@@ -107,8 +107,9 @@ class NeighbourSearch {
   /// (1 + skin/2), filtered at every call with mirrorRows' own tests, so `out` is bit for bit
   /// the rows mirrorRows gives. Built afresh when a point near the planes has moved (relative
   /// to its body's translation along the planes, or everyone's for pairs across bodies) or
-  /// grown by more than its share of the skin, when a point is appended near the planes, or
-  /// when the points are not all on one side of each plane.
+  /// grown by more than its share of the skin, when an appended point is wider than the
+  /// widest or on the other side, or when the points are not all on one side of each plane;
+  /// other appended points are paired in.
   void mirrorRowsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
                         const std::vector<int>& body, const Reflection& image, bool same_body,
                         std::size_t which, double skin, NeighbourList& out);
@@ -168,8 +169,10 @@ class NeighbourSearch {
     double r_wide_max = 0;
     bool positive[3] = {true, true, true};  ///< the side of each plane the points are on
     bool one_side = false;                  ///< all built points on that side (or on it)
+    std::vector<int> band;  ///< built points within 2 max(r_wide) of every plane, ascending
     long builds = 0;
     std::vector<std::vector<double>> comp;  ///< groupShifts' scratch
+    std::vector<std::pair<int, int>> added;  ///< appended points' pairs (row, partner)
     std::size_t bytes() const;
   };
   /// Pair the particles `again` (ascending) at their built positions with all the others:

@@ -346,10 +346,9 @@ TEST_CASE("sph mirror rows through Verlet lists equal a fresh search", "[unit][s
   // y = 0, pairs of a body and across bodies. The two-body cloud on the positive side of both
   // planes drifts by 0.02 h per call and body 0 also flies along z at 0.2 h per call (along
   // the planes, so its translation keeps the lists); h grows 0.5 % per call. At call 12, 20
-  // particles are appended far from the planes (they keep the lists), at call 18 five near
-  // them (they force a build). The lists must be reused: fewer builds than a third of the
-  // calls (pairs across bodies have one translation for all, and body 0 flies past their
-  // margin every 5 calls).
+  // particles are appended far from the planes, at call 18 five near them (paired in). The
+  // lists must be reused: fewer builds than a third of the calls (pairs across bodies have
+  // one translation for all, and body 0 flies past their margin every 5 calls).
   DriftingCloud c = driftingCloud(5, Vec3(0, 0, 0.2 * 0.4e-3));
   for (Vec3& p : c.x) p = p.cwiseAbs();  // the cloud on the positive side of both planes
   Reflection y_plane, xy_planes;
@@ -395,8 +394,48 @@ TEST_CASE("sph mirror rows through Verlet lists equal a fresh search", "[unit][s
   }
   INFO(search.mirrorVerletBuilds() << " builds of 4 lists in " << calls << " calls");
   CHECK(pairs > 100 * calls);
-  CHECK(search.mirrorVerletBuilds() > 4);  // the five appended near the planes force builds
+  CHECK(search.mirrorVerletBuilds() > 4);  // the drift and growth did force builds
   CHECK(search.mirrorVerletBuilds() < 4 * calls / 3);
+}
+
+TEST_CASE("sph mirror rows through Verlet lists pair points appended near the plane",
+          "[unit][sph]") {
+  // A cloud at rest on the positive side of y = 0 gains 6 points a call within 0.3 mm of the
+  // plane (conversions near a symmetry plane), of both bodies. Reference: mirrorRows afresh
+  // at every call (exact equality); the new points are paired in without a build, so each
+  // list is built once.
+  DriftingCloud c = driftingCloud(13, Vec3::Zero());
+  for (Vec3& p : c.x) p = p.cwiseAbs();
+  Reflection y_plane;
+  y_plane.flip[1] = true;
+  NeighbourSearch search;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 3e-3);
+  std::size_t pairs_of_new = 0;
+  for (int k = 0; k < 6; ++k) {
+    const std::size_t first_new = c.x.size();
+    if (k > 0)
+      for (int b = 0; b < 6; ++b) {
+        c.x.emplace_back(u(rng), 0.1 * u(rng), u(rng));
+        c.h.push_back(0.38e-3);
+        c.body.push_back(b % 2);
+      }
+    for (bool same_body : {true, false}) {
+      NeighbourList verlet, fresh;
+      search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, same_body, 0, same_body ? 0.3 : 2.0,
+                              verlet);
+      search.mirrorRows(c.x, c.h, c.body, y_plane, same_body, fresh);
+      INFO("call " << k << ", same body " << same_body);
+      REQUIRE(verlet.offset == fresh.offset);
+      REQUIRE(verlet.index == fresh.index);
+      for (std::size_t i = 0; i < c.x.size(); ++i)
+        for (std::size_t q = fresh.offset[i]; q < fresh.offset[i + 1]; ++q)
+          pairs_of_new += (i >= first_new || static_cast<std::size_t>(fresh.index[q]) >= first_new) &&
+                          k > 0;
+    }
+  }
+  CHECK(pairs_of_new > 50);
+  CHECK(search.mirrorVerletBuilds() == 2);
 }
 
 TEST_CASE("sph mirror rows through a Verlet list with points on both sides of the plane",
