@@ -615,10 +615,10 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
       c.offset.resize(n + 1, c.offset.back());
       std::vector<int> index(c.index.size() + add.size());
       for (std::size_t k = 0; k < n; ++k) {
-        const auto out_row = index.begin() + static_cast<std::ptrdiff_t>(c.offset[k] + add_offset[k]);
+        const auto row = index.begin() + static_cast<std::ptrdiff_t>(c.offset[k] + add_offset[k]);
         const auto after = std::copy(c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[k]),
                                      c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[k + 1]),
-                                     out_row);
+                                     row);
         std::copy(add.begin() + static_cast<std::ptrdiff_t>(add_offset[k]),
                   add.begin() + static_cast<std::ptrdiff_t>(add_offset[k + 1]), after);
       }
