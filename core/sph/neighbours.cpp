@@ -118,6 +118,24 @@ std::vector<Vec3> groupShifts(const std::vector<Vec3>& x, const std::vector<Vec3
   return shift;
 }
 
+/// Whether a particle built at x_built with range r_built has moved, relative to the
+/// translation u, plus grown by more than its margin skin/2 r_built since (0.99 of it leaves
+/// room for round-off in this test): then a pair inside its range now may not have been inside
+/// the widened one at the build (triangle inequality).
+bool pastMargin(const Vec3& x, const Vec3& x_built, const Vec3& u, double r, double r_built,
+                double skin) {
+  const double drift = (x - x_built - u).norm() + std::max(0.0, r - r_built);
+  return !(drift <= 0.99 * 0.5 * skin * r_built);
+}
+
+/// Whether p lies within `reach` of every plane of `image`.
+bool nearPlanes(const Reflection& image, const Vec3& p, double reach) {
+  for (int a = 0; a < 3; ++a)
+    if (image.flip[a] && !(std::abs(2.0 * p[a] - image.twice_position[a]) < 2.0 * reach))
+      return false;
+  return true;
+}
+
 }  // namespace
 
 std::uint64_t CellGrid::bucketOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
@@ -227,17 +245,12 @@ bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vect
   if (!rebuild) {
     shift = groupShifts(x, x_built, body, per_body, comp);
     const auto shiftOf = [&](std::size_t i) -> const Vec3& { return shift[groupOf(i)]; };
-    const auto pastMargin = [&](std::size_t i) {
-      const double drift =
-          (x[i] - x_built[i] - shiftOf(i)).norm() + std::max(0.0, r[i] - r_built[i]);
-      return !(drift <= 0.99 * 0.5 * skin * r_built[i]);
-    };
     const long nb = static_cast<long>(n_built);
     long past = 0;
     is_past.resize(n_built);
 #pragma omp parallel for schedule(static) reduction(+ : past)
     for (long i = 0; i < nb; ++i) {
-      is_past[i] = pastMargin(static_cast<std::size_t>(i));
+      is_past[i] = pastMargin(x[i], x_built[i], shiftOf(i), r[i], r_built[i], skin);
       past += is_past[i];
     }
     // A few particles past their margin (late in a run: debris flying off fast, which would
@@ -355,24 +368,28 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
     });
   }
 
+  v.pairs_added += v.addPairs(found);
+}
+
+std::size_t NeighbourSearch::Verlet::addPairs(
+    const std::vector<std::vector<std::pair<int, int>>>& found) {
   // The additions by row (a counting sort), then each row merged with its own, ascending as a
   // fresh build gives them; the rows in parallel, each alone.
-  std::vector<std::size_t>& add_offset = v.add_offset;
+  NeighbourList& c = candidates;
+  const std::size_t n = c.offset.size() - 1;
   add_offset.assign(n + 1, 0);
   for (const auto& f : found)
     for (const auto& e : f) ++add_offset[static_cast<std::size_t>(e.first) + 1];
   for (std::size_t i = 0; i < n; ++i) add_offset[i + 1] += add_offset[i];
-  if (add_offset[n] == 0) return;
-  v.pairs_added += add_offset[n];
-  std::vector<int>& add = v.add;
+  if (add_offset[n] == 0) return 0;
   add.resize(add_offset[n]);
   {
     std::vector<std::size_t> fill(add_offset.begin(), add_offset.end() - 1);
     for (const auto& f : found)
       for (const auto& [row, partner] : f) add[fill[static_cast<std::size_t>(row)]++] = partner;
   }
-  std::vector<std::size_t>& offset = v.merged.offset;
-  std::vector<int>& index = v.merged.index;
+  std::vector<std::size_t>& offset = merged.offset;
+  std::vector<int>& index = merged.index;
   offset.resize(n + 1);
   for (std::size_t i = 0; i <= n; ++i) offset[i] = c.offset[i] + add_offset[i];
   index.resize(offset[n]);
@@ -389,6 +406,7 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
   }
   c.offset.swap(offset);
   c.index.swap(index);
+  return add_offset[n];
 }
 
 /// Rows of the candidates for the particles appended since the last update and the ones
@@ -481,12 +499,7 @@ void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<d
   for (double ri : r) r_max = std::max(r_max, ri);
   // |x_i - M x_j| >= |d_i + d_j| on each flipped axis (d: signed distance to its plane), so a
   // pair needs both points within r_i + r_j <= 2 r_max of every plane of the image.
-  const auto near_planes = [&](std::size_t i) {
-    for (int a = 0; a < 3; ++a)
-      if (image.flip[a] && !(std::abs(2.0 * x[i][a] - image.twice_position[a]) < 4.0 * r_max))
-        return false;
-    return true;
-  };
+  const auto near_planes = [&](std::size_t i) { return nearPlanes(image, x[i], 2.0 * r_max); };
   mirror_ids_.clear();
   mirror_work_.assign(n + 1, 0);  // the rows near the planes before each row: their work
   for (std::size_t i = 0; i < n; ++i) {
@@ -523,16 +536,12 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
   const std::size_t slot = 2 * which + (same_body ? 0 : 1);
   if (mirror_verlet_.size() <= slot) mirror_verlet_.resize(slot + 1);
   MirrorVerlet& m = mirror_verlet_[slot];
-  const std::size_t n = x.size(), n_built = m.x_built.size();
+  Verlet& v = m.lists;
+  const std::size_t n = x.size(), n_built = v.x_built.size();
   double r_max = 0;
   for (double ri : r) r_max = std::max(r_max, ri);
   // mirrorRows' own test of the points it searches (within 2 max(r) of every plane)
-  const auto nearPlanes = [&](const Vec3& p, double reach) {
-    for (int a = 0; a < 3; ++a)
-      if (image.flip[a] && !(std::abs(2.0 * p[a] - image.twice_position[a]) < 2.0 * reach))
-        return false;
-    return true;
-  };
+  const auto searched = [&](const Vec3& p) { return nearPlanes(image, p, 2.0 * r_max); };
   // Every built point on the same side of every plane of the image: then a pair within
   // r_i + r_j of the image is within that of every plane (|x_i - M x_j| >= |d_i + d_j| =
   // |d_i| + |d_j| on a flipped axis), so mirrorRows' search finds all of them.
@@ -549,14 +558,14 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
     same_image = same_image && image.flip[a] == m.image.flip[a] &&
                  (!image.flip[a] || image.twice_position[a] == m.image.twice_position[a]);
   bool rebuild = !(skin > 0) || !m.one_side || n_built == 0 || n < n_built || !same_image ||
-                 !std::equal(m.body_built.begin(), m.body_built.end(), body.begin());
+                 !std::equal(v.body_built.begin(), v.body_built.end(), body.begin());
   if (!rebuild) {
     // A pair of points near the planes now (the only ones mirrorRows pairs) was a candidate
     // as long as neither moved, relative to the translation of its body (same body) or of
     // all (pairs across bodies), plus grew by more than its margin skin/2 r_built (triangle
     // inequality, M being an isometry). The translation keeps no component across a plane:
     // M u = u, so it leaves |x_i - M x_j| unchanged.
-    std::vector<Vec3> shift = groupShifts(x, m.x_built, body, same_body, m.comp);
+    std::vector<Vec3> shift = groupShifts(x, v.x_built, body, same_body, v.comp);
     const auto groupOf = [&](std::size_t i) {
       return same_body ? static_cast<std::size_t>(body[i]) : std::size_t{0};
     };
@@ -568,10 +577,8 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
 #pragma omp parallel for schedule(static) reduction(+ : past)
     for (long k = 0; k < nb; ++k) {
       const std::size_t i = static_cast<std::size_t>(k);
-      if (!nearPlanes(x[i], 2.0 * r_max)) continue;
-      const double drift = (x[i] - m.x_built[i] - shift[groupOf(i)]).norm() +
-                           std::max(0.0, r[i] - m.r_built[i]);
-      past += !(drift <= 0.99 * 0.5 * skin * m.r_built[i]);
+      if (!searched(x[i])) continue;
+      past += pastMargin(x[i], v.x_built[i], shift[groupOf(i)], r[i], v.r_built[i], skin);
     }
     rebuild = past > 0;
     // Points appended since the build (conversions), on the side of the others and no wider
@@ -581,61 +588,43 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
     for (std::size_t i = n_built; i < n && !rebuild; ++i)
       rebuild = (1.0 + 0.5 * skin) * r[i] > m.r_wide_max || !sameSide(x[i]);
     if (!rebuild && n > n_built) {
-      std::vector<std::pair<int, int>>& added = m.added;  // (row, partner), ascending per row
+      std::vector<std::pair<int, int>>& added = m.added.front();  // (row, partner)
       added.clear();
       for (std::size_t i = n_built; i < n; ++i) {
         const std::size_t g = groupOf(i);
-        m.x_built.push_back(g < shift.size() ? Vec3(x[i] - shift[g]) : x[i]);
-        m.r_built.push_back(r[i]);
-        m.r_wide.push_back((1.0 + 0.5 * skin) * r[i]);
-        const Vec3& xi = m.x_built[i];
-        if (!nearPlanes(xi, 2.0 * m.r_wide_max)) continue;
+        v.x_built.push_back(g < shift.size() ? Vec3(x[i] - shift[g]) : x[i]);
+        v.r_built.push_back(r[i]);
+        v.r_wide.push_back((1.0 + 0.5 * skin) * r[i]);
+        const Vec3& xi = v.x_built[i];
+        if (!nearPlanes(image, xi, 2.0 * m.r_wide_max)) continue;
         const int ii = static_cast<int>(i);
         for (int j : m.band) {
           const bool take = same_body ? body[j] == body[i] : body[j] != body[i];
-          const double reach = m.r_wide[i] + m.r_wide[static_cast<std::size_t>(j)];
-          if (!take || !((xi - image.point(m.x_built[j])).squaredNorm() < reach * reach)) continue;
+          const double reach = v.r_wide[i] + v.r_wide[static_cast<std::size_t>(j)];
+          if (!take || !((xi - image.point(v.x_built[j])).squaredNorm() < reach * reach)) continue;
           added.emplace_back(j, ii);                  // j < i: at the end of j's row
           if (same_body) added.emplace_back(ii, j);  // i's own row, ascending
         }
-        const double reach = 2.0 * m.r_wide[i];
+        const double reach = 2.0 * v.r_wide[i];
         if (same_body && (xi - image.point(xi)).squaredNorm() < reach * reach)
           added.emplace_back(ii, ii);  // i with its own image
         m.band.push_back(ii);
       }
-      m.body_built = body;
-      // The additions by row (a stable counting sort), each row's after its own entries.
-      NeighbourList& c = m.candidates;
-      std::vector<std::size_t> add_offset(n + 1, 0);
-      for (const auto& e : added) ++add_offset[static_cast<std::size_t>(e.first) + 1];
-      for (std::size_t k = 0; k < n; ++k) add_offset[k + 1] += add_offset[k];
-      std::vector<int> add(added.size());
-      std::vector<std::size_t> fill(add_offset.begin(), add_offset.end() - 1);
-      for (const auto& e : added) add[fill[static_cast<std::size_t>(e.first)]++] = e.second;
-      c.offset.resize(n + 1, c.offset.back());
-      std::vector<int> index(c.index.size() + add.size());
-      for (std::size_t k = 0; k < n; ++k) {
-        const auto row = index.begin() + static_cast<std::ptrdiff_t>(c.offset[k] + add_offset[k]);
-        const auto after = std::copy(c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[k]),
-                                     c.index.begin() + static_cast<std::ptrdiff_t>(c.offset[k + 1]),
-                                     row);
-        std::copy(add.begin() + static_cast<std::ptrdiff_t>(add_offset[k]),
-                  add.begin() + static_cast<std::ptrdiff_t>(add_offset[k + 1]), after);
-      }
-      for (std::size_t k = 0; k <= n; ++k) c.offset[k] += add_offset[k];
-      c.index.swap(index);
+      v.body_built = body;
+      v.candidates.offset.resize(n + 1, v.candidates.offset.back());  // rows of the new points
+      v.addPairs(m.added);
     }
   }
   if (rebuild) {
     m.image = image;
-    m.x_built = x;
-    m.r_built = r;
-    m.body_built = body;
-    m.r_wide.resize(n);
+    v.x_built = x;
+    v.r_built = r;
+    v.body_built = body;
+    v.r_wide.resize(n);
     m.r_wide_max = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      m.r_wide[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * r[i];
-      m.r_wide_max = std::max(m.r_wide_max, m.r_wide[i]);
+      v.r_wide[i] = (1.0 + 0.5 * std::max(skin, 0.0)) * r[i];
+      m.r_wide_max = std::max(m.r_wide_max, v.r_wide[i]);
     }
     for (int a = 0; a < 3; ++a) {  // the side of the first point off each plane
       m.positive[a] = true;
@@ -651,25 +640,25 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
     for (std::size_t i = 0; i < n && m.one_side; ++i) m.one_side = sameSide(x[i]);
     m.band.clear();
     for (std::size_t i = 0; i < n; ++i)
-      if (nearPlanes(x[i], 2.0 * m.r_wide_max)) m.band.push_back(static_cast<int>(i));
-    mirrorRows(x, m.r_wide, body, image, same_body, m.candidates);
-    ++m.builds;
+      if (nearPlanes(image, x[i], 2.0 * m.r_wide_max)) m.band.push_back(static_cast<int>(i));
+    mirrorRows(x, v.r_wide, body, image, same_body, v.candidates);
+    ++v.builds;
   }
   // mirrorRows' rows from the candidates (of the bodies it pairs): its test, on points it
   // searches.
   buildRows(
       n,
       [&](std::size_t i, std::vector<int>& buf) {
-        if (!nearPlanes(x[i], 2.0 * r_max)) return;
-        for (std::size_t k = m.candidates.offset[i]; k < m.candidates.offset[i + 1]; ++k) {
-          const int j = m.candidates.index[k];
+        if (!searched(x[i])) return;
+        for (std::size_t k = v.candidates.offset[i]; k < v.candidates.offset[i + 1]; ++k) {
+          const int j = v.candidates.index[k];
           const double reach = r[i] + r[j];
-          if (nearPlanes(x[j], 2.0 * r_max) &&
+          if (searched(x[j]) &&
               (x[i] - image.point(x[j])).squaredNorm() < reach * reach)
             buf.push_back(j);
         }
       },
-      thread_index_, count_, out, &m.candidates.offset);
+      thread_index_, count_, out, &v.candidates.offset);
 }
 
 std::size_t CellGrid::bytes() const { return heapBytes(start_, sorted_); }
@@ -680,8 +669,7 @@ std::size_t NeighbourSearch::Verlet::bytes() const {
 }
 
 std::size_t NeighbourSearch::MirrorVerlet::bytes() const {
-  return heapBytes(candidates.offset, candidates.index, x_built, r_built, r_wide, body_built) +
-         heapBytes(band, added, comp);
+  return lists.bytes() + heapBytes(band) + heapBytes(added);
 }
 
 std::size_t NeighbourSearch::bytes() const {

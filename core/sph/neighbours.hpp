@@ -116,7 +116,7 @@ class NeighbourSearch {
   /// Builds of the mirror images' Verlet lists so far.
   long mirrorVerletBuilds() const {
     long builds = 0;
-    for (const MirrorVerlet& m : mirror_verlet_) builds += m.builds;
+    for (const MirrorVerlet& m : mirror_verlet_) builds += m.lists.builds;
     return builds;
   }
 
@@ -128,7 +128,7 @@ class NeighbourSearch {
   void forgetCandidates() {
     sph_.x_built.clear();
     contact_.x_built.clear();
-    for (MirrorVerlet& m : mirror_verlet_) m.x_built.clear();
+    for (MirrorVerlet& m : mirror_verlet_) m.lists.x_built.clear();
   }
 
  private:
@@ -157,22 +157,21 @@ class NeighbourSearch {
     /// per_body: pairs only form within a body (its translation is then its own).
     bool update(const std::vector<Vec3>& x, const std::vector<double>& r,
                 const std::vector<int>& body, double skin, bool per_body);
+    /// Add the pairs (row, partner) of `found` to the candidates' rows, each row staying
+    /// ascending; returns how many.
+    std::size_t addPairs(const std::vector<std::vector<std::pair<int, int>>>& found);
     std::size_t bytes() const;
   };
   /// The Verlet list of one mirror image's rows (mirrorRowsVerlet).
   struct MirrorVerlet {
+    Verlet lists;      ///< candidates and the state they were built from (no re-seats)
     Reflection image;  ///< the image the candidates were built for
-    NeighbourList candidates;
-    std::vector<Vec3> x_built;
-    std::vector<double> r_built, r_wide;
-    std::vector<int> body_built;
     double r_wide_max = 0;
     bool positive[3] = {true, true, true};  ///< the side of each plane the points are on
     bool one_side = false;                  ///< all built points on that side (or on it)
     std::vector<int> band;  ///< built points within 2 max(r_wide) of every plane, ascending
-    long builds = 0;
-    std::vector<std::vector<double>> comp;  ///< groupShifts' scratch
-    std::vector<std::pair<int, int>> added;  ///< appended points' pairs (row, partner)
+    /// The appended points' pairs (row, partner), for Verlet::addPairs.
+    std::vector<std::vector<std::pair<int, int>>> added = {{}};
     std::size_t bytes() const;
   };
   /// Pair the particles `again` (ascending) at their built positions with all the others:

@@ -85,6 +85,15 @@ ContactCandidates bruteForce(const Model& m, double dt, double tol_fraction) {
   return c;
 }
 
+/// The broad phase's lists equal the reference's, all of them.
+void requireSameCandidates(const ContactCandidates& got, const ContactCandidates& ref) {
+  REQUIRE(got.slaves == ref.slaves);
+  REQUIRE(got.body_begin == ref.body_begin);
+  REQUIRE(got.offset == ref.offset);
+  REQUIRE(got.faces == ref.faces);
+  REQUIRE(got.active == ref.active);
+}
+
 int threads() {
 #ifdef _OPENMP
   return omp_get_max_threads();
@@ -116,12 +125,7 @@ TEST_CASE("broad phase = brute force on random configurations", "[unit][contact]
     for (int threads : {1, 2, 3}) {
       setThreads(threads);
       findContactCandidates(m, dt, tol);
-      const ContactCandidates& got = m.surfaces.candidates;
-      REQUIRE(got.slaves == ref.slaves);
-      REQUIRE(got.body_begin == ref.body_begin);
-      REQUIRE(got.offset == ref.offset);
-      REQUIRE(got.faces == ref.faces);
-      REQUIRE(got.active == ref.active);
+      requireSameCandidates(m.surfaces.candidates, ref);
     }
     total_pairs += ref.faces.size();
   }
@@ -157,10 +161,8 @@ TEST_CASE("broad phase after the face count drops below its parallel threshold",
   findContactCandidates(small, 1e-6, 0.2);
   setThreads(default_threads);
   const ContactCandidates ref = bruteForce(small, 1e-6, 0.2);
-  const ContactCandidates& got = small.surfaces.candidates;
   REQUIRE(ref.faces.size() > 0);
-  REQUIRE(got.offset == ref.offset);
-  REQUIRE(got.faces == ref.faces);
+  requireSameCandidates(small.surfaces.candidates, ref);
 }
 
 TEST_CASE("broad phase hashes only the faces near another body's slaves", "[unit][contact]") {
@@ -187,10 +189,7 @@ TEST_CASE("broad phase hashes only the faces near another body's slaves", "[unit
   for (int threads : {1, 2}) {
     setThreads(threads);
     findContactCandidates(m, dt, tol);
-    const ContactCandidates& got = m.surfaces.candidates;
-    REQUIRE(got.offset == ref.offset);
-    REQUIRE(got.faces == ref.faces);
-    REQUIRE(got.active == ref.active);
+    requireSameCandidates(m.surfaces.candidates, ref);
     // Every hashed face lies on the facing sides (x within 1 mm of the gap at 4 - 4.5 mm).
     const std::vector<int>& hashed = m.surfaces.scratch.bucket_faces;
     REQUIRE(!hashed.empty());
