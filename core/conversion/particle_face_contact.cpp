@@ -31,15 +31,19 @@ double inverseMass(const Nodes& nd, int a) {
 // the same (ascending) order whatever the cell size.
 struct FaceGrid {
   double cell = 0;
-  /// (cell key, face) of the cells that hold a particle, sorted: the faces of a cell are a
-  /// contiguous run in ascending face order. Keys may collide (a hash): a collision only adds
-  /// candidates.
-  std::vector<std::pair<std::int64_t, int>> entries;
-  /// Unit normal of each face with entries at the start of the step, its first node's
-  /// position a point of it (FacePlane's, computed once per face instead of once per particle
-  /// tested against it); valid[k] == 0: degenerate, or no entries.
-  std::vector<Vec3> normal;
-  std::vector<char> valid;
+  /// The faces entered in the cells that hold a particle, by the rank of the cell's key among
+  /// theirs: cell r's faces are face[start[r]] .. face[start[r + 1] - 1], ascending, each once.
+  /// Keys may collide (a hash): a collision only adds candidates. Degenerate faces are left out.
+  std::vector<std::size_t> start;
+  std::vector<int> face;
+  /// Each particle's cell rank (-1: tied, in no cell).
+  std::vector<int> rank_of;
+  /// The plane of each face with entries at the start of the step: a point of it (its first
+  /// node) and the unit normal, side by side for the one look-up a candidate face costs.
+  struct Plane {
+    Vec3 point, normal;
+  };
+  std::vector<Plane> plane;
 
   // Unsigned arithmetic: the hash wraps instead of overflowing (undefined behaviour) for
   // far or non-finite positions, which the solver's non-finite check reports after the step.
@@ -51,15 +55,6 @@ struct FaceGrid {
   }
   /// The index of the cell along an axis that holds coordinate c.
   long index(double c) const { return std::lround(std::floor(c / cell)); }
-  std::int64_t keyOf(const Vec3& p) const { return key(index(p.x()), index(p.y()), index(p.z())); }
-  /// The faces entered in cell `k`, as [first, last) into `entries`.
-  std::pair<const std::pair<std::int64_t, int>*, const std::pair<std::int64_t, int>*> faces(
-      std::int64_t k) const {
-    const auto lo = std::lower_bound(entries.begin(), entries.end(), std::make_pair(k, INT_MIN));
-    auto hi = lo;
-    while (hi != entries.end() && hi->first == k) ++hi;
-    return {entries.data() + (lo - entries.begin()), entries.data() + (hi - entries.begin())};
-  }
 };
 
 // Below this many items a loop runs on one thread: forking costs more than it saves. Low
@@ -95,7 +90,6 @@ class KeySet {
     return it != keys_.end() && *it == k ? static_cast<int>(it - keys_.begin()) : -1;
   }
   std::size_t size() const { return keys_.size(); }
-  std::int64_t key(std::size_t rank) const { return keys_[rank]; }
 
  private:
   std::vector<std::int64_t> keys_;
@@ -104,8 +98,8 @@ class KeySet {
 };
 
 // Only the cells that hold a particle's predicted position get entries: most faces of a
-// plate are far from every particle. Faces are entered in parallel; the final sort makes the
-// entries independent of the thread count.
+// plate are far from every particle. Faces are entered in parallel; the final counting sort
+// makes the entries independent of the thread count.
 FaceGrid buildGrid(const Model& model, double dt, double reach) {
   const Nodes& nd = model.nodes;
   const Particles& pa = model.particles;
@@ -143,18 +137,21 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   for (long p = 0; p < np; ++p)
     if (untied[p] && (keys.empty() || keys.back() != cell_of[p])) keys.push_back(cell_of[p]);
   const KeySet occupied(std::move(keys));
+  g.rank_of.resize(pa.size());
+#pragma omp parallel for schedule(static) if (np > kParallelMin)
+  for (long p = 0; p < np; ++p) g.rank_of[p] = untied[p] ? occupied.rank(cell_of[p]) : -1;
 
   // (rank of the cell's key, face) by block of faces: the blocks' work differs (faces far from
   // every particle cost a box, faces near many a look-up per cell), so the threads take them
   // as they come, and the blocks are joined in order.
   const long nb = blockCount(nf);
   std::vector<ThreadBuffer<std::vector<std::pair<int, int>>>> parts(static_cast<std::size_t>(nb));
-  g.normal.resize(faces.size());
-  g.valid.resize(faces.size());
+  g.plane.resize(faces.size());
 #pragma omp parallel for schedule(dynamic, 1) if (nf > kParallelMin)
   for (long b = 0; b < nb; ++b) {
     std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(b)].items;
     for (long k = nf * b / nb; k < nf * (b + 1) / nb; ++k) {
+      const std::size_t first = mine.size();
       Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
       for (int a : faces[k].node) {
         lo = lo.cwiseMin(nd.x[a]).cwiseMin(nd.x[a] + dt * nd.v[a]);
@@ -168,29 +165,32 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
       for (long i = i0; i <= i1; ++i)
         for (long j = j0; j <= j1; ++j)
           for (long l = k0; l <= k1; ++l) {
+            // A box can meet the same key twice through a collision: each face once a key.
             const int rank = occupied.rank(FaceGrid::key(i, j, l));
-            if (rank >= 0) mine.emplace_back(rank, static_cast<int>(k));
+            if (rank >= 0 && std::none_of(mine.begin() + first, mine.end(),
+                                          [&](const auto& e) { return e.first == rank; }))
+              mine.emplace_back(rank, static_cast<int>(k));
           }
-      g.valid[k] = 0;
-      if (mine.empty() || mine.back().second != static_cast<int>(k)) continue;
-      const FacePlane plane = facePlane(nd.x[faces[k].node[0]], nd.x[faces[k].node[1]],
-                                        nd.x[faces[k].node[2]]);
-      g.valid[k] = plane.valid() ? 1 : 0;
-      g.normal[k] = plane.normal;
+      if (mine.size() == first) continue;
+      const Vec3& point = nd.x[faces[k].node[0]];
+      const FacePlane plane = facePlane(point, nd.x[faces[k].node[1]], nd.x[faces[k].node[2]]);
+      if (!plane.valid()) {  // degenerate: no candidate
+        mine.resize(first);
+        continue;
+      }
+      g.plane[k] = {point, plane.normal};
     }
   }
   // Counting sort by key: the parts hold ascending faces in block order, so each key's run
   // comes out in ascending face order, as a sort of (key, face) would give it.
-  std::vector<std::size_t> fill(occupied.size() + 1, 0);
+  g.start.assign(occupied.size() + 1, 0);
   for (const auto& part : parts)
-    for (const auto& e : part.items) ++fill[static_cast<std::size_t>(e.first) + 1];
-  for (std::size_t c = 0; c < occupied.size(); ++c) fill[c + 1] += fill[c];
-  g.entries.resize(fill.back());
+    for (const auto& e : part.items) ++g.start[static_cast<std::size_t>(e.first) + 1];
+  for (std::size_t c = 0; c < occupied.size(); ++c) g.start[c + 1] += g.start[c];
+  std::vector<std::size_t> fill(g.start.begin(), g.start.end() - 1);
+  g.face.resize(g.start.back());
   for (const auto& part : parts)
-    for (const auto& [rank, face] : part.items)
-      g.entries[fill[static_cast<std::size_t>(rank)]++] = {occupied.key(static_cast<std::size_t>(rank)), face};
-  // A box can enter the same key twice through a collision: keep each face once per key.
-  g.entries.erase(std::unique(g.entries.begin(), g.entries.end()), g.entries.end());
+    for (const auto& [rank, k] : part.items) g.face[fill[static_cast<std::size_t>(rank)]++] = k;
   return g;
 }
 
@@ -208,7 +208,7 @@ struct Hit {
 struct Viable {
   int face;
   double distance;  ///< m, from the face's plane at the start of the step
-  int slot = -1;    ///< the face's entry in the face ends (FaceEnd) of this step
+  int slot;         ///< the face's entry in the face ends (FaceEnd) of this step
 };
 
 // A face's triangle at the end of the step and its plane, once per face instead of once per
@@ -230,16 +230,13 @@ void formFaceEnd(const Model& model, int face, double dt, long pushes, FaceEnd& 
 }
 
 void viableFaces(const Model& model, std::size_t p, double radius, const FaceGrid& grid,
-                 std::int64_t cell, std::vector<Viable>& out) {
-  const Nodes& nd = model.nodes;
-  const auto& faces = model.surfaces.exterior;
+                 std::vector<Viable>& out) {
   const Vec3& x = model.particles.x[p];
-  const auto [first, last] = grid.faces(cell);
-  for (auto e = first; e != last; ++e) {
-    const int k = e->second;
-    const ExteriorFace& f = faces[k];
-    if (!grid.valid[k]) continue;  // degenerate
-    const double distance = (x - nd.x[f.node[0]]).dot(grid.normal[k]);
+  const std::size_t r = static_cast<std::size_t>(grid.rank_of[p]);
+  for (std::size_t e = grid.start[r]; e < grid.start[r + 1]; ++e) {
+    const int k = grid.face[e];
+    const FaceGrid::Plane& f = grid.plane[static_cast<std::size_t>(k)];
+    const double distance = (x - f.point).dot(f.normal);
     if (distance >= -radius) out.push_back({k, distance, -1});
   }
 }
@@ -287,6 +284,15 @@ void applyHit(Model& model, std::size_t p, const Hit& hit, double alpha, double 
   }
 }
 
+// Buffers kept from call to call: taken afresh (~2 MB late in the quick run), their page faults
+// and zero fills were ~1 % of the run, serial.
+struct Scratch {
+  std::vector<ThreadBuffer<std::vector<Viable>>> parts;  ///< viable faces by block of particles
+  std::vector<Viable> viable;
+  std::vector<FaceEnd> ends;
+  std::vector<Hit> hits;
+};
+
 // The face slots that hold each node (compressed rows over the nodes): the slots a push on a
 // node makes stale, and the slots the sweep groups join.
 struct NodeSlots {
@@ -331,16 +337,27 @@ SweepGroups sweepGroups(const std::vector<int>& candidates, const std::vector<st
     return g;
   }
   // Disjoint sets of face slots: slots that share a node, and the viable slots of a candidate.
+  // The sets are the connected components, whoever joins them: the candidates' joins (~60k
+  // late in the quick run, 1.7 % of it when serial) go to a copy per share of the candidates,
+  // and the copies are joined into the first (a share's set, slot by slot).
   const std::size_t n_slots = node_slots.n_slots;
-  UnionFind joined(n_slots);
+  UnionFind by_node(n_slots);
   for (std::size_t a = 0; a + 1 < node_slots.at.size(); ++a)
     for (std::size_t q = node_slots.at[a] + 1; q < node_slots.at[a + 1]; ++q)
-      joined.join(node_slots.slots[q], node_slots.slots[node_slots.at[a]]);
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    const std::size_t p = static_cast<std::size_t>(candidates[c]);
-    const int anchor = viable[offset[p]].slot;
-    for (std::size_t v = offset[p] + 1; v < offset[p + 1]; ++v) joined.join(viable[v].slot, anchor);
-  }
+      by_node.join(node_slots.slots[q], node_slots.slots[node_slots.at[a]]);
+  const long shares = maxThreads(), nc = static_cast<long>(candidates.size());
+  std::vector<UnionFind> share(static_cast<std::size_t>(shares), by_node);
+#pragma omp parallel for schedule(static)
+  for (long t = 0; t < shares; ++t)
+    for (long c = nc * t / shares; c < nc * (t + 1) / shares; ++c) {
+      const std::size_t p = static_cast<std::size_t>(candidates[c]);
+      const int anchor = viable[offset[p]].slot;
+      for (std::size_t v = offset[p] + 1; v < offset[p + 1]; ++v)
+        share[t].join(viable[v].slot, anchor);
+    }
+  UnionFind& joined = share[0];
+  for (long t = 1; t < shares; ++t)
+    for (std::size_t s = 0; s < n_slots; ++s) joined.join(static_cast<int>(s), share[t].find(s));
   // Groups by root slot, ascending, members ascending: a counting sort by root.
   std::vector<int> root_of(candidates.size());
   std::vector<std::size_t> fill(n_slots + 1, 0);
@@ -385,38 +402,53 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // corrections are far smaller than a cell), so its viable faces are found once, by blocks
   // of particles joined in particle order.
   std::vector<std::size_t> offset(pa.size() + 1, 0);
-  std::vector<Viable> viable;
+  thread_local Scratch scratch;
+  std::vector<Viable>& viable = scratch.viable;
   const long nb = blockCount(np);  // tied particles take no time: blocks, not halves
-  std::vector<ThreadBuffer<std::vector<Viable>>> parts(static_cast<std::size_t>(nb));
+  auto& parts = scratch.parts;
+  parts.resize(static_cast<std::size_t>(nb));
 #pragma omp parallel for schedule(dynamic, 1) if (np > kParallelMin)
   for (long b = 0; b < nb; ++b) {
     std::vector<Viable>& mine = parts[static_cast<std::size_t>(b)].items;
+    mine.clear();
     for (long p = np * b / nb; p < np * (b + 1) / nb; ++p) {
       const std::size_t before = mine.size();
-      if (!pa.tie[p].active())
-        viableFaces(model, static_cast<std::size_t>(p), radius[p], grid,
-                    grid.keyOf(pa.x[p] + dt * pa.v[p]), mine);
+      if (grid.rank_of[p] >= 0)  // not tied
+        viableFaces(model, static_cast<std::size_t>(p), radius[p], grid, mine);
       offset[p + 1] = mine.size() - before;
     }
   }
   for (std::size_t p = 0; p < pa.size(); ++p) offset[p + 1] += offset[p];
-  viable.reserve(offset.back());
-  for (const auto& part : parts) viable.insert(viable.end(), part.items.begin(), part.items.end());
   std::vector<int> candidates;  // particles with viable faces, ascending
   for (std::size_t p = 0; p < pa.size(); ++p)
     if (offset[p + 1] > offset[p]) candidates.push_back(static_cast<int>(p));
   if (candidates.empty()) return;
 
+  // The blocks' lists copied into place side by side (~60k entries late in the quick run,
+  // where the serial copy was 1.5 % of the run), marking the faces viable for some particle.
+  viable.resize(offset.back());
+  std::vector<char> is_viable(faces.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1) if (np > kParallelMin)
+  for (long b = 0; b < nb; ++b) {
+    const std::vector<Viable>& mine = parts[static_cast<std::size_t>(b)].items;
+    std::copy(mine.begin(), mine.end(), viable.begin() + offset[np * b / nb]);
+    for (const Viable& v : mine) {
+#pragma omp atomic write
+      is_viable[static_cast<std::size_t>(v.face)] = 1;
+    }
+  }
+
   // Each face that is viable for some particle gets one slot of face ends, in face order.
   std::vector<int> slot_of(faces.size(), -1);
-  for (const Viable& v : viable) slot_of[static_cast<std::size_t>(v.face)] = 0;
   std::vector<int> slot_face;
   for (std::size_t f = 0; f < faces.size(); ++f)
-    if (slot_of[f] == 0) {
+    if (is_viable[f]) {
       slot_of[f] = static_cast<int>(slot_face.size());
       slot_face.push_back(static_cast<int>(f));
     }
-  for (Viable& v : viable) v.slot = slot_of[static_cast<std::size_t>(v.face)];
+  const long nv = static_cast<long>(viable.size());
+#pragma omp parallel for schedule(static) if (nv > kParallelMin)
+  for (long v = 0; v < nv; ++v) viable[v].slot = slot_of[static_cast<std::size_t>(viable[v].face)];
 
   // A particle's deepest hit depends on its own velocity and the velocities of its viable
   // faces' nodes only, and its own velocity changes only with a hit on one of those faces. So
@@ -427,8 +459,10 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // renewing those made stale earlier in the sweep.
   const long nc = static_cast<long>(candidates.size());
   const long ns = static_cast<long>(slot_face.size());
-  std::vector<FaceEnd> ends(slot_face.size());
-  std::vector<Hit> hits(candidates.size());
+  std::vector<FaceEnd>& ends = scratch.ends;  // formed in the first pass
+  ends.resize(slot_face.size());
+  std::vector<Hit>& hits = scratch.hits;  // found in the first pass
+  hits.resize(candidates.size());
   std::vector<long> found_at(candidates.size(), -1);  // push count when the hit was found
   // The newest push among each slot's nodes, set on every push through the slots of the
   // pushed nodes: a slot's staleness is then one look-up, where it took its face's three
@@ -481,7 +515,10 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
 #pragma omp parallel if (nc > kParallelMin)
     {
 #pragma omp for schedule(static)
-      for (long s = 0; s < ns; ++s) renewEnd(s, pushes);
+      for (long s = 0; s < ns; ++s) {
+        if (k == 1) ends[s].at = -1;  // left from the last call
+        renewEnd(s, pushes);
+      }
       const long nt = teamSize(), t = threadId();
       for (long c = hitBlock(t, nt); c < hitBlock(t + 1, nt); ++c) renewHit(c, pushes);
     }
