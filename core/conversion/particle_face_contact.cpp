@@ -66,35 +66,53 @@ constexpr long kParallelMin = 32;
 // At least 16 items a block, so that the determinism test's few dozen make several.
 long blockCount(long n) { return std::clamp((n + 15) / 16, 1L, 64L); }
 
-// The occupied cell keys, sorted, with a bitmap of their low bits in front: most cells a face
-// box touches hold no particle, and one bit test answers that without the binary search.
+// The occupied cells' keys, numbered in the order they are met, in an open-addressing table
+// (at most half full) with a bitmap of their low bits in front: most cells a face box touches
+// hold no particle, and one bit test answers that without a probe. Sized for `most` keys.
 class KeySet {
  public:
-  explicit KeySet(std::vector<std::int64_t> keys) : keys_(std::move(keys)) {
-    std::sort(keys_.begin(), keys_.end());
-    keys_.erase(std::unique(keys_.begin(), keys_.end()), keys_.end());
-    std::size_t bits = 64;
-    while (bits < 16 * keys_.size()) bits <<= 1;  // at most 1 bit in 16 set
-    mask_ = bits - 1;
-    bitmap_.assign(bits / 64, 0);
-    for (std::int64_t k : keys_) {
-      const std::uint64_t b = static_cast<std::uint64_t>(k) & mask_;
-      bitmap_[b / 64] |= std::uint64_t{1} << (b % 64);
-    }
+  explicit KeySet(std::size_t most) {
+    std::size_t slots = 64;
+    while (slots < 2 * most) slots <<= 1;
+    keys_.resize(slots);
+    rank_.assign(slots, -1);
+    while ((std::size_t{1} << (64 - shift_)) < slots) --shift_;
+    bitmap_.assign(8 * slots / 64, 0);  // 16 bits a key at most: at most 1 bit in 16 set
+    mask_ = 8 * slots - 1;
   }
-  /// The rank of key k among the keys (ascending), or -1 if it is not one of them.
+  /// The rank of key k, numbered now if it is new.
+  int insert(std::int64_t k) {
+    std::size_t i = slot(k);
+    for (; rank_[i] >= 0; i = (i + 1) & (keys_.size() - 1))
+      if (keys_[i] == k) return rank_[i];
+    keys_[i] = k;
+    rank_[i] = size_++;
+    const std::uint64_t b = static_cast<std::uint64_t>(k) & mask_;
+    bitmap_[b / 64] |= std::uint64_t{1} << (b % 64);
+    return rank_[i];
+  }
+  /// The rank of key k, or -1 if it is not one of them.
   int rank(std::int64_t k) const {
     const std::uint64_t b = static_cast<std::uint64_t>(k) & mask_;
     if ((bitmap_[b / 64] >> (b % 64) & 1) == 0) return -1;
-    const auto it = std::lower_bound(keys_.begin(), keys_.end(), k);
-    return it != keys_.end() && *it == k ? static_cast<int>(it - keys_.begin()) : -1;
+    for (std::size_t i = slot(k); rank_[i] >= 0; i = (i + 1) & (keys_.size() - 1))
+      if (keys_[i] == k) return rank_[i];
+    return -1;
   }
-  std::size_t size() const { return keys_.size(); }
+  std::size_t size() const { return static_cast<std::size_t>(size_); }
 
  private:
+  // Fibonacci hashing: the top bits of the product spread keys whose low bits agree.
+  std::size_t slot(std::int64_t k) const {
+    const std::uint64_t spread = static_cast<std::uint64_t>(k) * 0x9E3779B97F4A7C15u;
+    return static_cast<std::size_t>(spread >> shift_);
+  }
   std::vector<std::int64_t> keys_;
+  std::vector<int> rank_;  ///< -1: empty slot
   std::vector<std::uint64_t> bitmap_;
   std::uint64_t mask_ = 0;
+  int shift_ = 63;
+  int size_ = 0;
 };
 
 // Only the cells that hold a particle's predicted position get entries: most faces of a
@@ -131,15 +149,17 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
     i_min = std::min(i_min, i), j_min = std::min(j_min, j), k_min = std::min(k_min, k);
     i_max = std::max(i_max, i), j_max = std::max(j_max, j), k_max = std::max(k_max, k);
   }
-  // Particles in spatial order (renumbered along a Morton curve) share cells with their
-  // predecessors: a repeat of the last key is left out before the sort, not after it.
-  std::vector<std::int64_t> keys;
-  for (long p = 0; p < np; ++p)
-    if (untied[p] && (keys.empty() || keys.back() != cell_of[p])) keys.push_back(cell_of[p]);
-  const KeySet occupied(std::move(keys));
-  g.rank_of.resize(pa.size());
-#pragma omp parallel for schedule(static) if (np > kParallelMin)
-  for (long p = 0; p < np; ++p) g.rank_of[p] = untied[p] ? occupied.rank(cell_of[p]) : -1;
+  // Cells numbered in particle order, the same for any thread count. Particles in spatial
+  // order (renumbered along a Morton curve) share cells with their predecessors: a repeat of
+  // the last key takes the last rank without a probe.
+  KeySet occupied(pa.size());
+  g.rank_of.assign(pa.size(), -1);
+  for (long p = 0, last = -1; p < np; ++p) {
+    if (!untied[p]) continue;
+    g.rank_of[p] = last >= 0 && cell_of[last] == cell_of[p] ? g.rank_of[last]
+                                                             : occupied.insert(cell_of[p]);
+    last = p;
+  }
 
   // (rank of the cell's key, face) by block of faces: the blocks' work differs (faces far from
   // every particle cost a box, faces near many a look-up per cell), so the threads take them
