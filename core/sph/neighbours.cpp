@@ -98,13 +98,19 @@ std::vector<Vec3> groupShifts(const std::vector<Vec3>& x, const std::vector<Vec3
   std::size_t n_groups = 1;
   if (per_body)
     for (std::size_t i = 0; i < n_built; ++i) n_groups = std::max(n_groups, groupOf(i) + 1);
-  std::vector<std::size_t> members(n_groups, 0), seen(n_groups, 0);
+  std::vector<std::size_t> members(n_groups, 0);
   for (std::size_t i = 0; i < n_built; ++i) ++members[groupOf(i)];
+  // Every stride-th member of its group, counted down (a division per particle cost more
+  // than the medians).
+  std::vector<std::size_t> stride(n_groups), until_next(n_groups, 0);
+  for (std::size_t g = 0; g < n_groups; ++g)
+    stride[g] = std::max<std::size_t>(1, members[g] / kShiftSamples);
   comp.resize(3 * n_groups);
   for (auto& v : comp) v.clear();
   for (std::size_t i = 0; i < n_built; ++i) {
     const std::size_t g = groupOf(i);
-    if (seen[g]++ % std::max<std::size_t>(1, members[g] / kShiftSamples) != 0) continue;
+    if (until_next[g]-- > 0) continue;
+    until_next[g] = stride[g] - 1;
     for (int a = 0; a < 3; ++a) comp[3 * g + a].push_back(x[i][a] - x_built[i][a]);
   }
   std::vector<Vec3> shift(n_groups, Vec3::Zero());
