@@ -80,7 +80,7 @@ bool updateKinematicsAndTrial(Model& model, std::size_t e, double dt, PassAScrat
   PointState& st = el.state[e];
   const Sym s_old = st.s;
   PendingReturn r;
-  if (trialDeviatoricStress(mat, D, W, dt, el.rho[e], st, r)) {
+  if (trialDeviatoricStress(mat, D, W, dt, el.rho[e], st, r, &el.yield_cache[e])) {
     yielding.steps.push_back({e, s_old, D, gm.volume});
     yielding.returns.push_back(r);
   } else {
@@ -169,6 +169,7 @@ void computeElementForces(Model& model, double dt_last) {
   Elements& el = model.elems;
   Nodes& nd = model.nodes;
   const std::size_t ne = el.size();
+  if (el.yield_cache.size() != ne) el.yield_cache.assign(ne, YieldCache{});
 
   // Energy sums in a fixed order (ordered_sum.hpp): the same bits for any thread count.
   // Pass A block by block: kinematics and trial stress of every element, then the radial

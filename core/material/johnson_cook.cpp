@@ -29,11 +29,15 @@ double thermalFactor(const Material& mat, double T) {
   return Ts > 0.0 ? 1.0 - std::pow(Ts, mat.m) : 1.0;
 }
 
-/// flowStress with its thermal factor given.
-double flowStressAt(const Material& mat, double eps_p, double eps_dot, double thermal) {
-  if (mat.strength == StrengthModel::Elastic) return std::numeric_limits<double>::infinity();
+/// The hardening A + B eps_p^n of the flow stress (a negative eps_p counts as 0).
+double hardeningAt(const Material& mat, double eps_p) {
   const double ep = std::max(eps_p, 0.0);
-  const double hardening = mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
+  return mat.A + (ep > 0.0 ? mat.B * std::pow(ep, mat.n) : 0.0);
+}
+
+/// flowStress with its hardening and thermal factor given.
+double flowStressAt(const Material& mat, double hardening, double eps_dot, double thermal) {
+  if (mat.strength == StrengthModel::Elastic) return std::numeric_limits<double>::infinity();
   const double rate = 1.0 + mat.C * logRateRatio(mat, eps_dot);
   return hardening * rate * thermal;
 }
@@ -46,7 +50,7 @@ double flowStressAt(const Material& mat, double eps_p, double eps_dot, double th
 /// eps_dot* = max(1, eps_dot/eps_dot0), T* = homologousTemperature in [0, 1].
 /// The elastic strength model never yields: its flow stress is +infinity.
 double flowStress(const Material& mat, double eps_p, double eps_dot, double T) {
-  return flowStressAt(mat, eps_p, eps_dot, thermalFactor(mat, T));
+  return flowStressAt(mat, hardeningAt(mat, eps_p), eps_dot, thermalFactor(mat, T));
 }
 
 namespace {
@@ -67,13 +71,15 @@ Sym jaumannRate(const Mat3& W, const Sym& s) {
 /// eps_p + dlam = 0 when n < 1. `thermal` is 1 - T*^m, fixed during a return (T is the
 /// temperature at its start), so evaluated once by the caller; the strain and rate terms are
 /// shared by the stress and its slope: one pow and one log fewer per Newton iteration.
+/// `hardening_out` (if not null) receives A + B (eps_p + dlam)^n, hardeningAt's value there.
 double flowStressAfter(const Material& mat, double eps_p, double dlam, double dt,
-                       double thermal, double* slope = nullptr) {
+                       double thermal, double* slope, double* hardening_out) {
   const double ep = std::max(eps_p + dlam, 0.0);
   const double rate = dt > 0.0 ? dlam / dt : 0.0;
   const double rate_factor = 1.0 + mat.C * logRateRatio(mat, rate);
   const double ep_n = ep > 0.0 ? std::pow(ep, mat.n) : 0.0;
   const double hardening = mat.A + mat.B * ep_n;
+  if (hardening_out) *hardening_out = hardening;
   if (slope) {
     double dh;
     if (mat.B == 0.0)
@@ -109,13 +115,14 @@ class RadialReturn {
   bool done() const { return done_; }
   double dlam() const { return x_; }
   double sigmaY() const { return sigma_y_; }  ///< the flow stress at dlam
+  double hardening() const { return hardening_; }  ///< A + B (eps_p + dlam)^n
 
   /// One Newton (or bisection) iteration; done() once converged or after 200 iterations.
   void iterate() {
     const Material& mat = *r_.mat;
     const PointState& st = *r_.st;
     double slope = 0;
-    const double sy = flowStressAfter(mat, st.eps_p, x_, r_.dt, r_.thermal, &slope);
+    const double sy = flowStressAfter(mat, st.eps_p, x_, r_.dt, r_.thermal, &slope, &hardening_);
     const double g = r_.sigma_eq_tr - G3_ * x_ - sy;
     // 1e-10 sigma_y is 100x inside the 1e-8 promised; the second term is round-off in g.
     if (std::abs(g) <= 1e-10 * sy + 1e-14 * r_.sigma_eq_tr) return finish(sy);
@@ -124,7 +131,7 @@ class RadialReturn {
     x_ = (xn > lo_ && xn < hi_) ? xn : 0.5 * (lo_ + hi_);
     // bracket at round-off: x is the root
     if (hi_ - lo_ <= 4e-16 * hi_ || ++iterations_ == 200)
-      finish(flowStressAfter(mat, st.eps_p, x_, r_.dt, r_.thermal));
+      finish(flowStressAfter(mat, st.eps_p, x_, r_.dt, r_.thermal, nullptr, &hardening_));
   }
 
  private:
@@ -135,14 +142,15 @@ class RadialReturn {
 
   const PendingReturn& r_;
   double G3_, lo_ = 0.0, hi_, x_;
-  double sigma_y_ = 0;
+  double sigma_y_ = 0, hardening_ = 0;
   int iterations_ = 0;
   bool done_ = false;
 };
 
 /// After the return: the stress scaled back to the surface, the plastic strain and rate,
-/// adiabatic heating and damage (using the pressure in st.p). Sets r.work.
-void applyReturn(PendingReturn& r, double dlam, double sigma_y) {
+/// adiabatic heating and damage (using the pressure in st.p). Sets r.work, and keeps the
+/// hardening at the new plastic strain in the point's cache.
+void applyReturn(PendingReturn& r, double dlam, double sigma_y, double hardening) {
   const Material& mat = *r.mat;
   PointState& st = *r.st;
   const double dt = r.dt;
@@ -150,6 +158,7 @@ void applyReturn(PendingReturn& r, double dlam, double sigma_y) {
   st.s = st.s * (1.0 - 3.0 * mat.G * dlam / r.sigma_eq_tr);
   const double T0 = st.T;
   st.eps_p += dlam;
+  if (r.cache) *r.cache = {r.cache->T, r.cache->thermal, st.eps_p, hardening};
   if (dt > 0.0) st.eps_rate = dlam / dt;
 
   r.work = sigma_y * dlam;
@@ -176,7 +185,7 @@ void applyReturn(PendingReturn& r, double dlam, double sigma_y) {
 /// dlam/dt, T) (Johnson & Cook 1985), capped at 1.
 /// This function takes the first two steps; completeReturns the third and the rest.
 bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
-                           double rho, PointState& st, PendingReturn& r) {
+                           double rho, PointState& st, PendingReturn& r, YieldCache* cache) {
   const double guess = st.eps_rate * dt;
   st.eps_rate = 0.0;
   if (st.damage >= 1.0) {  // a failed point carries no deviatoric stress
@@ -190,10 +199,13 @@ bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, dou
   // Inside the quasi-static yield surface: elastic. Always so for the Elastic model.
   if (mat.strength == StrengthModel::Elastic) return false;
   const double sigma_eq_tr = vonMises(s_tr);
-  const double thermal = thermalFactor(mat, st.T);
-  const double sigma_y0 = flowStressAt(mat, st.eps_p, 0.0, thermal);
+  YieldCache fresh;
+  YieldCache& c = cache ? *cache : fresh;
+  if (!(c.T == st.T)) c = {st.T, thermalFactor(mat, st.T), c.eps_p, c.hardening};
+  if (!(c.eps_p == st.eps_p)) c = {c.T, c.thermal, st.eps_p, hardeningAt(mat, st.eps_p)};
+  const double sigma_y0 = flowStressAt(mat, c.hardening, 0.0, c.thermal);
   if (sigma_eq_tr <= sigma_y0) return false;
-  r = PendingReturn{&mat, &st, dt, rho, sigma_eq_tr, thermal, sigma_y0, guess, 0.0};
+  r = PendingReturn{&mat, &st, cache, dt, rho, sigma_eq_tr, c.thermal, sigma_y0, guess, 0.0};
   return true;
 }
 
@@ -213,7 +225,8 @@ void completeReturns(PendingReturn* r, std::size_t count) {
         running = running || !ret[k]->done();
       }
     }
-    for (std::size_t k = 0; k < lanes; ++k) applyReturn(r[b + k], ret[k]->dlam(), ret[k]->sigmaY());
+    for (std::size_t k = 0; k < lanes; ++k)
+      applyReturn(r[b + k], ret[k]->dlam(), ret[k]->sigmaY(), ret[k]->hardening());
   }
 }
 

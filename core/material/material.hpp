@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <string>
 
 namespace fesph {
@@ -117,9 +118,23 @@ EosAtDensity eosAtDensity(const Material& mat, double rho);
 
 /// A point whose elastic trial stress lies outside the yield surface, between its trial
 /// (trialDeviatoricStress) and its radial return (completeReturns).
+/// The two costly factors of a point's quasi-static flow stress, kept from step to step: the
+/// thermal factor 1 - T*^m at temperature T and the hardening A + B eps_p^n at plastic strain
+/// eps_p, a pow each. An entry holds while its key equals the point's T or eps_p (NaN: none
+/// yet), so it never gives another value than the pow would: a point that does not yield keeps
+/// both, one that yields keeps the hardening its return last evaluated (at the new eps_p).
+/// An entry serves one point of one material (the keys do not name the material).
+struct YieldCache {
+  double T = std::numeric_limits<double>::quiet_NaN();
+  double thermal = 1;
+  double eps_p = std::numeric_limits<double>::quiet_NaN();
+  double hardening = 0;
+};
+
 struct PendingReturn {
   const Material* mat = nullptr;
   PointState* st = nullptr;  ///< st->s holds the trial stress
+  YieldCache* cache = nullptr;  ///< the point's, if it keeps one
   double dt = 0;             ///< s
   double rho = 0;            ///< density at the start of the step, kg/m^3
   double sigma_eq_tr = 0;    ///< von Mises of the trial stress, Pa
@@ -131,8 +146,10 @@ struct PendingReturn {
 
 /// The first half of updateDeviatoricStress: Jaumann rotation and elastic trial (st.s becomes
 /// the trial stress). Returns true when the point yields; `r` then holds what its return needs.
+/// `cache` (optional) keeps the flow stress's thermal factor and hardening between steps.
 bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
-                           double rho, PointState& st, PendingReturn& r);
+                           double rho, PointState& st, PendingReturn& r,
+                           YieldCache* cache = nullptr);
 
 /// The second half for `count` yielding points: radial return, heating, damage, and r[k].work.
 /// Several points are iterated side by side, so the processor overlaps one point's pow and log

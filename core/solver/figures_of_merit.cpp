@@ -27,7 +27,7 @@ Footprint modelFootprint(const Model& m) {
   const Elements& el = m.elems;
   const Surfaces& s = m.surfaces;
   f.elements = bytes(el.conn, el.body, el.material, el.V0, el.V, el.dV, el.rho, el.q) +
-               bytes(el.div_v, el.dt, el.len, el.len0, el.state, el.status) +
+               bytes(el.div_v, el.dt, el.len, el.len0, el.state, el.status, el.yield_cache) +
                bytes(m.corner_force, m.node_corners, s.table, s.elem_faces);
   const Nodes& nd = m.nodes;
   f.nodes = bytes(nd.x, nd.x0, nd.v, nd.f, nd.m, nd.body, nd.fix, m.node_corner_offset) +

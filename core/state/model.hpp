@@ -47,6 +47,9 @@ struct Elements {
   std::vector<double> len, len0;         ///< smallest altitude now and at the first step, m
   std::vector<PointState> state;         ///< stress and history variables
   std::vector<ElemStatus> status;
+  /// Scratch, not in the checkpoint: each element's flow stress factors from its last step,
+  /// sized and keyed by the element pass (material.hpp).
+  std::vector<YieldCache> yield_cache;
   std::size_t size() const { return conn.size(); }
 };
 

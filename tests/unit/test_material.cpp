@@ -197,6 +197,64 @@ TEST_CASE("radial returns side by side give each point the bits it gets alone",
   CHECK(yielded > 8 * 30);  // more than one full group yields in every step on average
 }
 
+TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[unit][material]") {
+  // YieldCache keeps a point's thermal factor and hardening between steps, keyed by its T and
+  // eps_p. The same points with and without caches, 40 steps: points that yield every step,
+  // points that unload and sit elastic (both factors reused), a hot one, a failed one; at step
+  // 20 some points' T and others' eps_p are changed from outside (the keys must catch it).
+  // Every field and the plastic work compared bit for bit; the counts show both kinds of reuse.
+  const Material mat = steel4340();
+  const double dt = 2e-8;
+  std::vector<PointState> plain(12), cached(12);
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    plain[k].T = 293.0 + 90.0 * static_cast<double>(k % 4);
+    plain[k].eps_p = 0.02 * static_cast<double>(k % 3);
+  }
+  plain[7].damage = 1.0;
+  cached = plain;
+  std::vector<YieldCache> cache(plain.size());
+  int reused_thermal = 0, reused_hardening = 0, yielded = 0;
+  for (int step = 0; step < 40; ++step) {
+    if (step == 20)
+      for (std::size_t k = 0; k < plain.size(); k += 3) {
+        plain[k].T += 15.0, cached[k].T += 15.0;
+        plain[k + 1].eps_p += 0.01, cached[k + 1].eps_p += 0.01;
+      }
+    for (std::size_t k = 0; k < plain.size(); ++k) {
+      // Points 0-5 strain on; 6-11 strain for 10 steps, unload in one (~300 MPa, past the
+      // rate's share of the flow stress) and hold.
+      const double rate = k < 6 || step < 10 ? 2e5 * static_cast<double>(k + 1)
+                          : step == 10       ? -1e5
+                                             : 0.0;
+      const Sym D = uniaxialRate(rate);
+      const bool thermal_hit = cache[k].T == cached[k].T;
+      const bool hardening_hit = cache[k].eps_p == cached[k].eps_p;
+      const double w_plain = updateDeviatoricStress(mat, D, kNoSpin, dt, mat.rho0, plain[k]);
+      PendingReturn r;
+      double w_cached = 0;
+      if (trialDeviatoricStress(mat, D, kNoSpin, dt, mat.rho0, cached[k], r, &cache[k])) {
+        completeReturns(&r, 1);
+        w_cached = r.work;
+        ++yielded;
+      }
+      if (cached[k].damage < 1.0) {  // a failed point takes neither
+        reused_thermal += thermal_hit;
+        reused_hardening += hardening_hit;
+      }
+      INFO("step " << step << ", point " << k);
+      CHECK(std::memcmp(&plain[k], &cached[k], sizeof(PointState)) == 0);
+      CHECK(std::memcmp(&w_plain, &w_cached, sizeof(double)) == 0);
+    }
+  }
+  // The straining points (0-5) yield in all 40 steps, the unloading ones (6, 8-11) in the
+  // first 10. Every live point reuses its hardening from step 1 on (a return keeps its last
+  // one) but where step 20 moved eps_p (points 1, 4, 10); only the held points reuse the
+  // thermal factor (a yield heats), in steps 11-39, but where step 20 moved T (points 6, 9).
+  CHECK(yielded == 6 * 40 + 5 * 10);
+  CHECK(reused_hardening == 11 * 39 - 3);
+  CHECK(reused_thermal == 5 * 29 - 2);
+}
+
 TEST_CASE("plastic work heats the point adiabatically", "[unit][material]") {
   const Material mat = steel4340();
   PointState st;
