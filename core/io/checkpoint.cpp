@@ -88,7 +88,7 @@ FESPH_CHECKPOINT_FIELDS(Particles, 15 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
-                                          12 * kVec + 3 * kVec /* scratch */);
+                                          12 * kVec + 4 * kVec /* scratch */);
 FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +

@@ -158,7 +158,10 @@ void applyReturn(PendingReturn& r, double dlam, double sigma_y, double hardening
   st.s = st.s * (1.0 - 3.0 * mat.G * dlam / r.sigma_eq_tr);
   const double T0 = st.T;
   st.eps_p += dlam;
-  if (r.cache) *r.cache = {r.cache->T, r.cache->thermal, st.eps_p, hardening};
+  if (r.cache) {
+    r.cache->eps_p = st.eps_p;
+    r.cache->hardening = hardening;
+  }
   if (dt > 0.0) st.eps_rate = dlam / dt;
 
   r.work = sigma_y * dlam;
@@ -201,8 +204,15 @@ bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, dou
   const double sigma_eq_tr = vonMises(s_tr);
   YieldCache fresh;
   YieldCache& c = cache ? *cache : fresh;
-  if (!(c.T == st.T)) c = {st.T, thermalFactor(mat, st.T), c.eps_p, c.hardening};
-  if (!(c.eps_p == st.eps_p)) c = {c.T, c.thermal, st.eps_p, hardeningAt(mat, st.eps_p)};
+  if (c.mat != &mat) c = YieldCache{&mat};
+  if (!(c.T == st.T)) {
+    c.T = st.T;
+    c.thermal = thermalFactor(mat, st.T);
+  }
+  if (!(c.eps_p == st.eps_p)) {
+    c.eps_p = st.eps_p;
+    c.hardening = hardeningAt(mat, st.eps_p);
+  }
   const double sigma_y0 = flowStressAt(mat, c.hardening, 0.0, c.thermal);
   if (sigma_eq_tr <= sigma_y0) return false;
   r = PendingReturn{&mat, &st, cache, dt, rho, sigma_eq_tr, c.thermal, sigma_y0, guess, 0.0};
@@ -232,9 +242,9 @@ void completeReturns(PendingReturn* r, std::size_t count) {
 
 /// Returns the plastic work per unit volume (J/m^3).
 double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
-                              double rho, PointState& st) {
+                              double rho, PointState& st, YieldCache* cache) {
   PendingReturn r;
-  if (!trialDeviatoricStress(mat, D, W, dt, rho, st, r)) return 0.0;
+  if (!trialDeviatoricStress(mat, D, W, dt, rho, st, r, cache)) return 0.0;
   completeReturns(&r, 1);
   return r.work;
 }

@@ -120,11 +120,12 @@ EosAtDensity eosAtDensity(const Material& mat, double rho);
 /// (trialDeviatoricStress) and its radial return (completeReturns).
 /// The two costly factors of a point's quasi-static flow stress, kept from step to step: the
 /// thermal factor 1 - T*^m at temperature T and the hardening A + B eps_p^n at plastic strain
-/// eps_p, a pow each. An entry holds while its key equals the point's T or eps_p (NaN: none
-/// yet), so it never gives another value than the pow would: a point that does not yield keeps
-/// both, one that yields keeps the hardening its return last evaluated (at the new eps_p).
-/// An entry serves one point of one material (the keys do not name the material).
+/// eps_p, a pow each. An entry holds while its keys equal the point's material and T or eps_p
+/// (NaN: none yet), so it never gives another value than the pow would: a point that does not
+/// yield keeps both, one that yields keeps the hardening its return last evaluated (at the new
+/// eps_p).
 struct YieldCache {
+  const Material* mat = nullptr;
   double T = std::numeric_limits<double>::quiet_NaN();
   double thermal = 1;
   double eps_p = std::numeric_limits<double>::quiet_NaN();
@@ -162,6 +163,6 @@ void completeReturns(PendingReturn* r, std::size_t count);
 /// D: rate of deformation (1/s); W: spin (1/s); rho: current density.
 /// Returns the plastic work per unit volume done over the step (J/m^3).
 double updateDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
-                              double rho, PointState& st);
+                              double rho, PointState& st, YieldCache* cache = nullptr);
 
 }  // namespace fesph

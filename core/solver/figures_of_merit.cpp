@@ -48,7 +48,7 @@ Footprint modelFootprint(const Model& m) {
                 snapshotBytes(ws.current) + snapshotBytes(ws.previous) +
                 bytes(ws.corrected, ws.velocity_grad, ws.velocity_grad_prev, ws.stress_b) +
                 bytes(ws.plastic_work, ws.av_work, ws.contact_radius, ws.contact_spacing) +
-                bytes(ws.contact_pairs) + ws.search.bytes();
+                bytes(ws.contact_pairs, ws.yield_cache) + ws.search.bytes();
   return f;
 }
 

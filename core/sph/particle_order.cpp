@@ -95,6 +95,7 @@ void renumberParticles(Model& model, const std::vector<int>& order) {
   ws.pair_grad.clear();
   ws.pair_stab.clear();
   ws.search.forgetCandidates();
+  ws.yield_cache.clear();
 }
 
 bool orderParticlesIfDue(Model& model) {

@@ -222,7 +222,7 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   const double Vp = i < ws.previous.size() ? ws.previous.V[i] : Vc;
 
   const Sym s_old = st.s;
-  const double wp = updateDeviatoricStress(mat, D, W, dt, pa.rho[i], st);
+  const double wp = updateDeviatoricStress(mat, D, W, dt, pa.rho[i], st, &ws.yield_cache[i]);
   // dV/dt = V tr(D), integrated exactly for a constant rate: V stays positive
   double V_new = Vc * std::exp(D.trace() * dt);
   if (st.damage >= 1.0) V_new = std::min(V_new, std::max(Vc, failedVolumeCap(mat, mass)));
@@ -423,6 +423,7 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
 #pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i) kinematics(pa, static_cast<std::size_t>(i), ws);
   // Volumes of neighbours change below: the passes must stay separate.
+  ws.yield_cache.resize(n);
 #pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i) updateMaterial(model, static_cast<std::size_t>(i), dt_last, ws);
 #pragma omp parallel for schedule(dynamic, 128)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/common/types.hpp"
+#include "core/material/material.hpp"
 #include "core/sph/neighbours.hpp"
 
 #include <cstdint>
@@ -93,6 +94,9 @@ struct SphWorkspace {
   std::vector<Mat3> stress_b;           ///< sigma_i B_i, Pa
   std::vector<double> plastic_work;     ///< per particle over the last step, J
   std::vector<double> av_work;          ///< stabilisation heat per particle, last step, J
+  /// Each particle's flow stress factors from its last step (material.hpp): scratch, not in
+  /// the checkpoint, emptied when the particles are renumbered.
+  std::vector<YieldCache> yield_cache;
   std::vector<double> contact_radius;   ///< m
   std::vector<double> contact_spacing;  ///< m
   std::vector<std::pair<int, int>> contact_pairs;

@@ -201,9 +201,13 @@ TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[un
   // YieldCache keeps a point's thermal factor and hardening between steps, keyed by its T and
   // eps_p. The same points with and without caches, 40 steps: points that yield every step,
   // points that unload and sit elastic (both factors reused), a hot one, a failed one; at step
-  // 20 some points' T and others' eps_p are changed from outside (the keys must catch it).
+  // 20 some points' T and others' eps_p are changed from outside, at step 30 two points change
+  // material (the keys must catch both).
   // Every field and the plastic work compared bit for bit; the counts show both kinds of reuse.
-  const Material mat = steel4340();
+  const Material steel = steel4340();
+  Material softer = steel;
+  softer.A *= 0.5, softer.m = 1.2;
+  std::vector<const Material*> mat(12, &steel);
   const double dt = 2e-8;
   std::vector<PointState> plain(12), cached(12);
   for (std::size_t k = 0; k < plain.size(); ++k) {
@@ -220,6 +224,7 @@ TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[un
         plain[k].T += 15.0, cached[k].T += 15.0;
         plain[k + 1].eps_p += 0.01, cached[k + 1].eps_p += 0.01;
       }
+    if (step == 30) mat[2] = mat[8] = &softer;
     for (std::size_t k = 0; k < plain.size(); ++k) {
       // Points 0-5 strain on; 6-11 strain for 10 steps, unload in one (~300 MPa, past the
       // rate's share of the flow stress) and hold.
@@ -227,12 +232,13 @@ TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[un
                           : step == 10       ? -1e5
                                              : 0.0;
       const Sym D = uniaxialRate(rate);
-      const bool thermal_hit = cache[k].T == cached[k].T;
-      const bool hardening_hit = cache[k].eps_p == cached[k].eps_p;
-      const double w_plain = updateDeviatoricStress(mat, D, kNoSpin, dt, mat.rho0, plain[k]);
+      const Material& m = *mat[k];
+      const bool thermal_hit = cache[k].mat == &m && cache[k].T == cached[k].T;
+      const bool hardening_hit = cache[k].mat == &m && cache[k].eps_p == cached[k].eps_p;
+      const double w_plain = updateDeviatoricStress(m, D, kNoSpin, dt, m.rho0, plain[k]);
       PendingReturn r;
       double w_cached = 0;
-      if (trialDeviatoricStress(mat, D, kNoSpin, dt, mat.rho0, cached[k], r, &cache[k])) {
+      if (trialDeviatoricStress(m, D, kNoSpin, dt, m.rho0, cached[k], r, &cache[k])) {
         completeReturns(&r, 1);
         w_cached = r.work;
         ++yielded;
@@ -250,9 +256,15 @@ TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[un
   // first 10. Every live point reuses its hardening from step 1 on (a return keeps its last
   // one) but where step 20 moved eps_p (points 1, 4, 10); only the held points reuse the
   // thermal factor (a yield heats), in steps 11-39, but where step 20 moved T (points 6, 9).
-  CHECK(yielded == 6 * 40 + 5 * 10);
-  CHECK(reused_hardening == 11 * 39 - 3);
-  CHECK(reused_thermal == 5 * 29 - 2);
+  // The straining points (0-5) yield in all 40 steps, the unloading ones (6, 8-11) in the
+  // first 10, and point 8 again in the last 10 (the softer material's surface is below its
+  // stress). Every live point reuses its hardening from step 1 on (a return keeps its last
+  // one) but where step 20 moved eps_p (points 1, 4, 10) and step 30 the material (2, 8); the
+  // held points reuse the thermal factor in steps 11-39 (a yield heats) but where step 20
+  // moved T (points 6, 9), and point 8 not from step 30 on.
+  CHECK(yielded == 6 * 40 + 5 * 10 + 10);
+  CHECK(reused_hardening == 11 * 39 - 3 - 2);
+  CHECK(reused_thermal == 5 * 29 - 2 - 10);
 }
 
 TEST_CASE("plastic work heats the point adiabatically", "[unit][material]") {
