@@ -357,24 +357,25 @@ SweepGroups sweepGroups(const std::vector<int>& candidates, const std::vector<st
     return g;
   }
   // Disjoint sets of face slots: slots that share a node, and the viable slots of a candidate.
-  // The sets are the connected components, whoever joins them: the candidates' joins (~60k
-  // late in the quick run, 1.7 % of it when serial) go to a copy per share of the candidates,
+  // The sets are the connected components, whoever joins them: the joins (~60k late in the
+  // quick run, 1.7 % of it when serial) go to a copy per share of the nodes and candidates,
   // and the copies are joined into the first (a share's set, slot by slot).
   const std::size_t n_slots = node_slots.n_slots;
-  UnionFind by_node(n_slots);
-  for (std::size_t a = 0; a + 1 < node_slots.at.size(); ++a)
-    for (std::size_t q = node_slots.at[a] + 1; q < node_slots.at[a + 1]; ++q)
-      by_node.join(node_slots.slots[q], node_slots.slots[node_slots.at[a]]);
   const long shares = maxThreads(), nc = static_cast<long>(candidates.size());
-  std::vector<UnionFind> share(static_cast<std::size_t>(shares), by_node);
+  const long nn = static_cast<long>(node_slots.at.size()) - 1;
+  std::vector<UnionFind> share(static_cast<std::size_t>(shares), UnionFind(n_slots));
 #pragma omp parallel for schedule(static)
-  for (long t = 0; t < shares; ++t)
+  for (long t = 0; t < shares; ++t) {
+    UnionFind& mine = share[static_cast<std::size_t>(t)];
+    for (long a = nn * t / shares; a < nn * (t + 1) / shares; ++a)
+      for (std::size_t q = node_slots.at[a] + 1; q < node_slots.at[a + 1]; ++q)
+        mine.join(node_slots.slots[q], node_slots.slots[node_slots.at[a]]);
     for (long c = nc * t / shares; c < nc * (t + 1) / shares; ++c) {
       const std::size_t p = static_cast<std::size_t>(candidates[c]);
       const int anchor = viable[offset[p]].slot;
-      for (std::size_t v = offset[p] + 1; v < offset[p + 1]; ++v)
-        share[t].join(viable[v].slot, anchor);
+      for (std::size_t v = offset[p] + 1; v < offset[p + 1]; ++v) mine.join(viable[v].slot, anchor);
     }
+  }
   UnionFind& joined = share[0];
   for (long t = 1; t < shares; ++t)
     for (std::size_t s = 0; s < n_slots; ++s) joined.join(static_cast<int>(s), share[t].find(s));
