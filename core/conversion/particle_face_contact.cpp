@@ -201,8 +201,8 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
       g.plane[k] = {point, plane.normal};
     }
   }
-  // Counting sort by key: the parts hold ascending faces in block order, so each key's run
-  // comes out in ascending face order, as a sort of (key, face) would give it.
+  // Counting sort by cell: the parts hold ascending faces in block order, so each cell's row
+  // comes out in ascending face order, whatever the thread that entered it.
   g.start.assign(occupied.size() + 1, 0);
   for (const auto& part : parts)
     for (const auto& e : part.items) ++g.start[static_cast<std::size_t>(e.first) + 1];

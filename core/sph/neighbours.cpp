@@ -109,7 +109,10 @@ std::vector<Vec3> groupShifts(const std::vector<Vec3>& x, const std::vector<Vec3
   for (auto& v : comp) v.clear();
   for (std::size_t i = 0; i < n_built; ++i) {
     const std::size_t g = groupOf(i);
-    if (until_next[g]-- > 0) continue;
+    if (until_next[g] > 0) {
+      --until_next[g];
+      continue;
+    }
     until_next[g] = stride[g] - 1;
     for (int a = 0; a < 3; ++a) comp[3 * g + a].push_back(x[i][a] - x_built[i][a]);
   }
