@@ -19,7 +19,9 @@ std::vector<std::pair<std::size_t, Trigger>> triggeredElements(const Model& mode
   const Elements& el = model.elems;
   const long ne = static_cast<long>(el.size());
   std::vector<Trigger> why(el.size(), Trigger::None);
-#pragma omp parallel for schedule(static)
+  // Converted elements gather where the projectile went: chunks taken as they come balance
+  // the live ones over the threads (each element's verdict is its own).
+#pragma omp parallel for schedule(dynamic, 2048)
   for (long e = 0; e < ne; ++e)
     if (el.status[e] == ElemStatus::Live) why[e] = elementTrigger(model, e);
   std::vector<std::pair<std::size_t, Trigger>> out;
