@@ -198,8 +198,8 @@ TEST_CASE("radial returns side by side give each point the bits it gets alone",
 }
 
 TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[unit][material]") {
-  // YieldCache keeps a point's thermal factor and hardening between steps, keyed by its T and
-  // eps_p. The same points with and without caches, 40 steps: points that yield every step,
+  // YieldCache keeps a point's thermal factor and hardening between steps, keyed by its
+  // material, T and eps_p. The same points with and without caches, 40 steps: points that yield every step,
   // points that unload and sit elastic (both factors reused), a hot one, a failed one; at step
   // 20 some points' T and others' eps_p are changed from outside, at step 30 two points change
   // material (the keys must catch both).
@@ -252,10 +252,6 @@ TEST_CASE("a yield cache gives the flow stress the pow gives, bit for bit", "[un
       CHECK(std::memcmp(&w_plain, &w_cached, sizeof(double)) == 0);
     }
   }
-  // The straining points (0-5) yield in all 40 steps, the unloading ones (6, 8-11) in the
-  // first 10. Every live point reuses its hardening from step 1 on (a return keeps its last
-  // one) but where step 20 moved eps_p (points 1, 4, 10); only the held points reuse the
-  // thermal factor (a yield heats), in steps 11-39, but where step 20 moved T (points 6, 9).
   // The straining points (0-5) yield in all 40 steps, the unloading ones (6, 8-11) in the
   // first 10, and point 8 again in the last 10 (the softer material's surface is below its
   // stress). Every live point reuses its hardening from step 1 on (a return keeps its last
