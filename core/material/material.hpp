@@ -116,8 +116,6 @@ struct EosAtDensity {
 };
 EosAtDensity eosAtDensity(const Material& mat, double rho);
 
-/// A point whose elastic trial stress lies outside the yield surface, between its trial
-/// (trialDeviatoricStress) and its radial return (completeReturns).
 /// The two costly factors of a point's quasi-static flow stress, kept from step to step: the
 /// thermal factor 1 - T*^m at temperature T and the hardening A + B eps_p^n at plastic strain
 /// eps_p, a pow each. An entry holds while its keys equal the point's material and T or eps_p
@@ -132,17 +130,19 @@ struct YieldCache {
   double hardening = 0;
 };
 
+/// A point whose elastic trial stress lies outside the yield surface, between its trial
+/// (trialDeviatoricStress) and its radial return (completeReturns).
 struct PendingReturn {
   const Material* mat = nullptr;
-  PointState* st = nullptr;  ///< st->s holds the trial stress
+  PointState* st = nullptr;     ///< st->s holds the trial stress
   YieldCache* cache = nullptr;  ///< the point's, if it keeps one
-  double dt = 0;             ///< s
-  double rho = 0;            ///< density at the start of the step, kg/m^3
-  double sigma_eq_tr = 0;    ///< von Mises of the trial stress, Pa
-  double thermal = 1;        ///< 1 - T*^m at the start of the step
-  double sigma_y0 = 0;       ///< quasi-static flow stress at the start of the step, Pa
-  double guess = 0;          ///< Newton's start: the last plastic increment
-  double work = 0;           ///< out: plastic work over the step, J/m^3
+  double dt = 0;                ///< s
+  double rho = 0;               ///< density at the start of the step, kg/m^3
+  double sigma_eq_tr = 0;       ///< von Mises of the trial stress, Pa
+  double thermal = 1;           ///< 1 - T*^m at the start of the step
+  double sigma_y0 = 0;          ///< quasi-static flow stress at the start of the step, Pa
+  double guess = 0;             ///< Newton's start: the last plastic increment
+  double work = 0;              ///< out: plastic work over the step, J/m^3
 };
 
 /// The first half of updateDeviatoricStress: Jaumann rotation and elastic trial (st.s becomes

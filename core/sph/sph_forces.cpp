@@ -78,6 +78,7 @@ void resizeWorkspace(SphWorkspace& ws, std::size_t n) {
   ws.stress_b.resize(n);
   ws.plastic_work.resize(n);
   ws.av_work.resize(n);
+  ws.yield_cache.resize(n);  // new particles' entries empty (keyed: see YieldCache)
 }
 
 /// Neighbours of particle i in this step's lists: its own body's and the mirror images'.
@@ -423,7 +424,6 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
 #pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i) kinematics(pa, static_cast<std::size_t>(i), ws);
   // Volumes of neighbours change below: the passes must stay separate.
-  ws.yield_cache.resize(n);
 #pragma omp parallel for schedule(dynamic, 128)
   for (long i = 0; i < ni; ++i) updateMaterial(model, static_cast<std::size_t>(i), dt_last, ws);
 #pragma omp parallel for schedule(dynamic, 128)
