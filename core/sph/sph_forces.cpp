@@ -108,6 +108,31 @@ void pairGradients(const Particles& pa, std::size_t i, const NeighbourList& nb,
   }
 }
 
+/// The entry in the last step's list of each pair of row i in this step's (`slot`), or
+/// kNoLastPair for a pair new to the list (read only for pairs of particles both in the last
+/// step: j < np). Most rows are the last step's unchanged (a pair crosses the support now and
+/// then): their entries follow one to one; the others take one merge walk (rows ascending).
+void lastSlots(const NeighbourList& last, const NeighbourList& nb, std::size_t i, std::size_t np,
+               std::vector<std::uint32_t>& slot) {
+  const std::size_t k0 = nb.offset[i], k1 = nb.offset[i + 1];
+  std::size_t kl = 0, kl_end = 0;
+  if (i + 1 < last.offset.size()) kl = last.offset[i], kl_end = last.offset[i + 1];
+  const auto row = nb.index.begin() + static_cast<std::ptrdiff_t>(k0);
+  if (kl_end - kl == k1 - k0 && std::equal(row, row + static_cast<std::ptrdiff_t>(k1 - k0),
+                                           last.index.begin() + static_cast<std::ptrdiff_t>(kl))) {
+    for (std::size_t k = k0; k < k1; ++k) slot[k] = static_cast<std::uint32_t>(kl + (k - k0));
+    return;
+  }
+  for (std::size_t k = k0; k < k1; ++k) {
+    const std::size_t j = static_cast<std::size_t>(nb.index[k]);
+    slot[k] = SphWorkspace::kNoLastPair;
+    if (j >= np) continue;
+    while (kl < kl_end && static_cast<std::size_t>(last.index[kl]) < j) ++kl;
+    if (kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j)
+      slot[k] = static_cast<std::uint32_t>(kl);
+  }
+}
+
 /// Pass 1 for particle i: kernel gradients of its pairs, correction B_i and velocity gradient
 /// L_i = sum_j V_j (v_j - v_i) (x) (B_i grad W_ij), exact for linear velocity fields; and the
 /// same gradient of v^{n-1/2} over the last step's configuration (the exact dual of the last
@@ -160,18 +185,14 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   // The last step computed the gradients of its own pairs in this very configuration: a pair
   // in both lists (ascending rows, so one merge walk) takes that value, bit for bit the one
   // computed here otherwise (a pair new to the list, or the first step after a restart).
-  const NeighbourList& last = ws.neighbours_last;
-  std::size_t kl = 0, kl_end = 0;
-  if (i + 1 < last.offset.size()) kl = last.offset[i], kl_end = last.offset[i + 1];
+  lastSlots(ws.neighbours_last, nb, i, np, ws.pair_last_slot);
   OuterSum Gp_sum;
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
-    ws.pair_last_slot[k] = SphWorkspace::kNoLastPair;
     if (j >= np) continue;
-    while (kl < kl_end && static_cast<std::size_t>(last.index[kl]) < j) ++kl;
-    const bool in_last = kl < kl_end && static_cast<std::size_t>(last.index[kl]) == j;
-    if (in_last) ws.pair_last_slot[k] = static_cast<std::uint32_t>(kl);
-    const Vec3 g = in_last ? ws.pair_grad_last[kl] : previousGradient(prev, i, j);
+    const std::uint32_t kl = ws.pair_last_slot[k];
+    const Vec3 g =
+        kl != SphWorkspace::kNoLastPair ? ws.pair_grad_last[kl] : previousGradient(prev, i, j);
     Gp_sum.add(prev.V[j] * (pa.v[j] - pa.v[i]), g);
   }
   Mat3 Gp = Gp_sum.matrix();
