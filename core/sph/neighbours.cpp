@@ -17,47 +17,60 @@ constexpr std::size_t kReseatShare = 8;  // 1 in 8
 // Displacements per group whose median is taken as the Verlet lists' common translation.
 constexpr std::size_t kShiftSamples = 256;
 
-/// Compressed rows built in parallel without atomics: each thread takes one contiguous block
-/// of rows, collects them in its own buffer, and copies the buffer to its place once the
-/// row lengths are known. The result is the same for any number of threads.
+// Blocks of rows per thread in buildRows, handed out as threads come free: a thread slowed by
+// another tenant (or given the dearer rows) no longer holds the other at the end.
+constexpr std::size_t kBlocksPerThread = 4;
+
+/// Compressed rows built in parallel without atomics: the rows are cut into contiguous blocks
+/// (kBlocksPerThread per thread), each collected into its own buffer by whichever thread takes
+/// it, and each buffer is copied to its place once the row lengths are known. The result is
+/// the same for any number of threads.
 /// collect(i, buf) appends row i (already in its final order) to buf. `work`, if given
 /// (size n + 1, non-decreasing from 0), is the work before each row: the blocks then take
 /// equal shares of it instead of equal numbers of rows (rows of unequal cost: a thread
 /// with the cheap ones waited for the other through half of the Verlet filter).
 template <class Collect>
-void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::vector<int>>>& thread_buf,
+void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::vector<int>>>& block_buf,
                std::vector<std::size_t>& count, NeighbourList& out,
                const std::vector<std::size_t>* work = nullptr) {
-  thread_buf.resize(static_cast<std::size_t>(maxThreads()));
+  const std::size_t blocks = kBlocksPerThread * static_cast<std::size_t>(maxThreads());
+  block_buf.resize(blocks);
   count.assign(n, 0);
   out.offset.assign(n + 1, 0);
-  // First row of block t of nt: the first row with at least its share of the work before it.
-  const auto blockStart = [&](std::size_t t, std::size_t nt) -> std::size_t {
-    if (!work || t == 0 || t == nt) return n * t / nt;
-    const std::size_t share = (*work)[n] / nt * t + (*work)[n] % nt * t / nt;
+  // First row of block b: the first row with at least its share of the work before it.
+  const auto blockStart = [&](std::size_t b) -> std::size_t {
+    if (!work || b == 0 || b == blocks) return n * b / blocks;
+    const std::size_t share = (*work)[n] / blocks * b + (*work)[n] % blocks * b / blocks;
     return static_cast<std::size_t>(std::lower_bound(work->begin(), work->begin() +
                                                      static_cast<std::ptrdiff_t>(n), share) -
                                     work->begin());
   };
+  const long nb = static_cast<long>(blocks);
 #pragma omp parallel
   {
-    const std::size_t nt = static_cast<std::size_t>(teamSize());
-    const std::size_t t = static_cast<std::size_t>(threadId());
-    const std::size_t begin = blockStart(t, nt), end = blockStart(t + 1, nt);
-    std::vector<int>& buf = thread_buf[t].items;
-    buf.clear();
-    for (std::size_t i = begin; i < end; ++i) {
-      const std::size_t before = buf.size();
-      collect(i, buf);
-      count[i] = buf.size() - before;
+#pragma omp for schedule(dynamic, 1)
+    for (long b = 0; b < nb; ++b) {
+      std::vector<int>& buf = block_buf[static_cast<std::size_t>(b)].items;
+      buf.clear();
+      const std::size_t end = blockStart(static_cast<std::size_t>(b) + 1);
+      for (std::size_t i = blockStart(static_cast<std::size_t>(b)); i < end; ++i) {
+        const std::size_t before = buf.size();
+        collect(i, buf);
+        count[i] = buf.size() - before;
+      }
     }
-#pragma omp barrier
 #pragma omp single
     {
       for (std::size_t i = 0; i < n; ++i) out.offset[i + 1] = out.offset[i] + count[i];
       out.index.resize(out.offset[n]);
     }
-    std::copy(buf.begin(), buf.end(), out.index.begin() + static_cast<std::ptrdiff_t>(out.offset[begin]));
+#pragma omp for schedule(dynamic, 1)
+    for (long b = 0; b < nb; ++b) {
+      const std::vector<int>& buf = block_buf[static_cast<std::size_t>(b)].items;
+      std::copy(buf.begin(), buf.end(),
+                out.index.begin() +
+                    static_cast<std::ptrdiff_t>(out.offset[blockStart(static_cast<std::size_t>(b))]));
+    }
   }
 }
 
