@@ -244,10 +244,9 @@ void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vecto
         const std::size_t first = buf.size();
         const Vec3 xi = x[i];
         const double hi = h[i];
-        grids_[body[i]].forEachCandidate(xi, [&](int j) {
+        grids_[body[i]].appendCandidates(xi, buf, [&](int j) {
           const double support = hi + h[j];  // 2 h_ij
-          if (j != static_cast<int>(i) && (xi - x[j]).squaredNorm() < support * support)
-            buf.push_back(j);
+          return (j != static_cast<int>(i)) & ((xi - x[j]).squaredNorm() < support * support);
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
@@ -478,11 +477,10 @@ void NeighbourSearch::crossBodyRows(const std::vector<Vec3>& x, const std::vecto
       n,
       [&](std::size_t i, std::vector<int>& buf) {
         const std::size_t first = buf.size();
-        grids_[0].forEachCandidate(x[i], [&](int j) {
+        grids_[0].appendCandidates(x[i], buf, [&](int j) {
           const double reach = r[i] + r[j];
-          if (j > static_cast<int>(i) && body[j] != body[i] &&
-              (x[i] - x[j]).squaredNorm() < reach * reach)
-            buf.push_back(j);
+          return (j > static_cast<int>(i)) & (body[j] != body[i]) &
+                 ((x[i] - x[j]).squaredNorm() < reach * reach);
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },

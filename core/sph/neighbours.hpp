@@ -42,6 +42,25 @@ class CellGrid {
       for (std::size_t s = start_[buckets[k]]; s < start_[buckets[k] + 1]; ++s) fn(sorted_[s]);
   }
 
+  /// Appends to `out` the candidates j of p (forEachCandidate's, in its order) for which
+  /// keep(j) holds. Every candidate is written and the end moves on past those kept: whether
+  /// one is kept is a coin toss to the branch predictor (~1 in 6 of the 27 cells' points).
+  template <class Keep>
+  void appendCandidates(const Vec3& p, std::vector<int>& out, Keep&& keep) const {
+    std::uint64_t buckets[27];
+    const int n = nearbyBuckets(p, buckets);
+    std::size_t total = 0;
+    for (int k = 0; k < n; ++k) total += start_[buckets[k] + 1] - start_[buckets[k]];
+    std::size_t kept = out.size();
+    out.resize(kept + total);
+    for (int k = 0; k < n; ++k)
+      for (std::size_t s = start_[buckets[k]]; s < start_[buckets[k] + 1]; ++s) {
+        out[kept] = sorted_[s];
+        kept += keep(sorted_[s]) ? 1 : 0;
+      }
+    out.resize(kept);
+  }
+
   bool empty() const { return sorted_.empty(); }
   /// Bytes of its storage.
   std::size_t bytes() const;
