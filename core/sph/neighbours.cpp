@@ -545,11 +545,11 @@ void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<d
         if (!near_planes(i)) return;
         const std::size_t first = buf.size();
         // the partners of i's image are the points whose image is a partner of i
-        mirror_grid_.forEachCandidate(image.point(x[i]), [&](int j) {
+        mirror_grid_.appendCandidates(image.point(x[i]), buf, [&](int j) {
           const bool take = same_body ? body[j] == body[i]
-                                      : body[j] != body[i] && j > static_cast<int>(i);
+                                      : (body[j] != body[i]) & (j > static_cast<int>(i));
           const double reach = r[i] + r[j];
-          if (take && (x[i] - image.point(x[j])).squaredNorm() < reach * reach) buf.push_back(j);
+          return take & ((x[i] - image.point(x[j])).squaredNorm() < reach * reach);
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
