@@ -78,7 +78,7 @@ void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::v
 /// the fresh searches (r = h for SPH pairs, the contact radii for contact pairs), so a Verlet
 /// list filtered here gives their lists bit for bit.
 void filterCandidates(const std::vector<Vec3>& x, const std::vector<double>& r,
-                      const NeighbourList& cand, std::vector<ThreadBuffer<std::vector<int>>>& thread_buf,
+                      const NeighbourList& cand, std::vector<ThreadBuffer<std::vector<int>>>& block_buf,
                       std::vector<std::size_t>& count, NeighbourList& out) {
   buildRows(
       x.size(),
@@ -96,7 +96,7 @@ void filterCandidates(const std::vector<Vec3>& x, const std::vector<double>& r,
         }
         buf.resize(kept);
       },
-      thread_buf, count, out, &cand.offset);
+      block_buf, count, out, &cand.offset);
 }
 
 /// The translation u of each group (each body, or everyone: !per_body) of the particles built
@@ -250,7 +250,7 @@ void NeighbourSearch::sphNeighbours(const std::vector<Vec3>& x, const std::vecto
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
-      thread_index_, count_, out);
+      block_rows_, count_, out);
 }
 
 bool NeighbourSearch::Verlet::update(const std::vector<Vec3>& x, const std::vector<double>& r,
@@ -453,7 +453,7 @@ void NeighbourSearch::sphNeighboursVerlet(const std::vector<Vec3>& x, const std:
     sphNeighbours(x, sph_.r_wide, body, sph_.candidates);
   else
     pairAgain(sph_, n_old, false);
-  filterCandidates(x, h, sph_.candidates, thread_index_, count_, out);
+  filterCandidates(x, h, sph_.candidates, block_rows_, count_, out);
 }
 
 void NeighbourSearch::crossBodyRows(const std::vector<Vec3>& x, const std::vector<double>& r,
@@ -484,7 +484,7 @@ void NeighbourSearch::crossBodyRows(const std::vector<Vec3>& x, const std::vecto
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
-      thread_index_, count_, rows);
+      block_rows_, count_, rows);
 }
 
 namespace {
@@ -514,7 +514,7 @@ void NeighbourSearch::crossBodyPairsVerlet(const std::vector<Vec3>& x, const std
     crossBodyRows(x, contact_.r_wide, body, contact_.candidates);
   else
     pairAgain(contact_, n_old, true);
-  filterCandidates(x, r, contact_.candidates, thread_index_, count_, rows_);
+  filterCandidates(x, r, contact_.candidates, block_rows_, count_, rows_);
   rowsToPairs(rows_, out);
 }
 
@@ -553,7 +553,7 @@ void NeighbourSearch::mirrorRows(const std::vector<Vec3>& x, const std::vector<d
         });
         std::sort(buf.begin() + static_cast<std::ptrdiff_t>(first), buf.end());
       },
-      thread_index_, count_, out, &mirror_work_);
+      block_rows_, count_, out, &mirror_work_);
 }
 
 void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::vector<double>& r,
@@ -685,7 +685,7 @@ void NeighbourSearch::mirrorRowsVerlet(const std::vector<Vec3>& x, const std::ve
             buf.push_back(j);
         }
       },
-      thread_index_, count_, out, &v.candidates.offset);
+      block_rows_, count_, out, &v.candidates.offset);
 }
 
 std::size_t CellGrid::bytes() const { return heapBytes(start_, sorted_); }
@@ -701,10 +701,10 @@ std::size_t NeighbourSearch::MirrorVerlet::bytes() const {
 
 std::size_t NeighbourSearch::bytes() const {
   std::size_t b = sph_.bytes() + contact_.bytes() + mirror_grid_.bytes() +
-                  heapBytes(mirror_ids_, mirror_work_, ids_, thread_index_, count_) +
+                  heapBytes(mirror_ids_, mirror_work_, ids_, block_rows_, count_) +
                   heapBytes(rows_.offset, rows_.index);
   for (const CellGrid& g : grids_) b += g.bytes();
-  for (const auto& t : thread_index_) b += heapBytes(t.items);
+  for (const auto& t : block_rows_) b += heapBytes(t.items);
   for (const MirrorVerlet& m : mirror_verlet_) b += m.bytes();
   return b;
 }

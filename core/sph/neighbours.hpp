@@ -209,7 +209,7 @@ class NeighbourSearch {
   std::vector<int> mirror_ids_;
   std::vector<std::size_t> mirror_work_;            ///< mirrorRows' rows near the planes, prefix
   std::vector<std::vector<int>> ids_;               ///< per body (or one set), ascending
-  std::vector<ThreadBuffer<std::vector<int>>> thread_index_;  ///< per-thread neighbour ids
+  std::vector<ThreadBuffer<std::vector<int>>> block_rows_;  ///< each block's rows (buildRows)
   std::vector<std::size_t> count_;
   NeighbourList rows_;                              ///< contact pairs as rows
   Verlet sph_, contact_;
