@@ -190,8 +190,8 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
     return;
   }
   // The last step computed the gradients of its own pairs in this very configuration: a pair
-  // in both lists (ascending rows, so one merge walk) takes that value, bit for bit the one
-  // computed here otherwise (a pair new to the list, or the first step after a restart).
+  // in both lists (found by lastSlots) takes that value, bit for bit the one computed here
+  // otherwise (a pair new to the list, or the first step after a restart).
   lastSlots(ws.neighbours_last, nb, i, np, ws.pair_last_slot);
   OuterSum Gp_sum;
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
