@@ -60,7 +60,9 @@ Mat3 artificialStress(const Mat3& sigma, double epsilon) {
 }
 
 /// grad_i W_ij in the last step's configuration, for a pair the last step's list lacks.
-Vec3 previousGradient(const SphSnapshot& prev, std::size_t i, std::size_t j) {
+/// Inlined by force: a call in the kinematics' and the forces' pair loops, however rare, made
+/// GCC keep those loops' sums in memory across it (every SSE register is the caller's to save).
+[[gnu::always_inline]] inline Vec3 previousGradient(const SphSnapshot& prev, std::size_t i, std::size_t j) {
   return kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
 }
 
@@ -153,10 +155,15 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
   cur.h[i] = pa.h[i];
   cur.V[i] = pa.V[i];
   pairGradients(pa, i, nb, ws.pair_grad);
+  // Two walks over the row (in L1 by now): one sum each keeps its accumulators in registers,
+  // where the two sums together spilled two of them to the stack at every pair.
   OuterSum A_sum, G_sum;
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const int j = nb.index[k];
     A_sum.subtract(pa.V[j] * (pa.x[i] - pa.x[j]), ws.pair_grad[k]);
+  }
+  for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+    const int j = nb.index[k];
     G_sum.add(pa.V[j] * (pa.v[j] - pa.v[i]), ws.pair_grad[k]);
   }
   Mat3 A = A_sum.matrix(), G = G_sum.matrix();
