@@ -389,9 +389,12 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
       if (cross) {
         const int lo = std::min(i, j), hi = std::max(i, j);
         if (lacks(lo, hi)) found[k].emplace_back(lo, hi);
-      } else {
-        if (lacks(i, j)) found[k].emplace_back(i, j);
-        if (lacks(j, i)) found[k].emplace_back(j, i);
+      } else if (lacks(i, j)) {
+        // Same-body rows are symmetric (j in i's row exactly when i is in j's: a build's test
+        // is, and every pair is added to both rows), so i's row, in cache, answers for j's,
+        // whose look-up missed the cache (a third of this search in an impact).
+        found[k].emplace_back(i, j);
+        found[k].emplace_back(j, i);
       }
     });
   }
