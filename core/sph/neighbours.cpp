@@ -380,12 +380,17 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
     const int i = again[static_cast<std::size_t>(k)];
     const Vec3 xi = v.x_built[static_cast<std::size_t>(i)];
     const double ri = v.r_wide[static_cast<std::size_t>(i)];
-    grids_[grid_of(static_cast<std::size_t>(i))].forEachCandidate(xi, [&](int j) {
+    const int bi = body[static_cast<std::size_t>(i)];
+    thread_local std::vector<int> near;  // the pairs of i, in the grid's order
+    near.clear();
+    grids_[grid_of(static_cast<std::size_t>(i))].appendCandidates(xi, near, [&](int j) {
       const std::size_t js = static_cast<std::size_t>(j);
-      if (j == i || (body[js] != body[static_cast<std::size_t>(i)]) != cross) return;
-      if (in_again[js] && j < i) return;  // that pair comes from j's own search
       const double reach = ri + v.r_wide[js];
-      if (!((xi - v.x_built[js]).squaredNorm() < reach * reach)) return;
+      return (j != i) & ((body[js] != bi) == cross) &
+             !(in_again[js] & (j < i)) &  // a pair of two such comes from the lower one's search
+             ((xi - v.x_built[js]).squaredNorm() < reach * reach);
+    });
+    for (const int j : near) {
       if (cross) {
         const int lo = std::min(i, j), hi = std::max(i, j);
         if (lacks(lo, hi)) found[k].emplace_back(lo, hi);
@@ -396,7 +401,7 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
         found[k].emplace_back(i, j);
         found[k].emplace_back(j, i);
       }
-    });
+    }
   }
 
   v.pairs_added += v.addPairs(found);
