@@ -31,20 +31,11 @@ class CellGrid {
   /// Sort the points `ids` (ascending) of `x` into cells of edge `cell` (m, > 0).
   void build(const std::vector<Vec3>& x, const std::vector<int>& ids, double cell);
 
-  /// Call fn(j) once for every point j in the 27 cells around position p (and for points
-  /// sharing their buckets), bucket by bucket in no fixed order (callers sort what they
-  /// keep), ids ascending within a bucket.
-  template <class Fn>
-  void forEachCandidate(const Vec3& p, Fn&& fn) const {
-    std::uint64_t buckets[27];
-    int n = nearbyBuckets(p, buckets);
-    for (int k = 0; k < n; ++k)
-      for (std::size_t s = start_[buckets[k]]; s < start_[buckets[k] + 1]; ++s) fn(sorted_[s]);
-  }
-
-  /// Appends to `out` the candidates j of p (forEachCandidate's, in its order) for which
-  /// keep(j) holds. Every candidate is written and the end moves on past those kept: whether
-  /// one is kept is a coin toss to the branch predictor (~1 in 6 of the 27 cells' points).
+  /// Appends to `out` the candidates j of position p for which keep(j) holds: the points of
+  /// the 27 cells around p (and the points sharing their buckets), bucket by bucket in no
+  /// fixed order (callers sort what they keep), ids ascending within a bucket. Every
+  /// candidate is written and the end moves on past those kept: whether one is kept is a coin
+  /// toss to the branch predictor (~1 in 6 of the 27 cells' points).
   template <class Keep>
   void appendCandidates(const Vec3& p, std::vector<int>& out, Keep&& keep) const {
     std::uint64_t buckets[27];
