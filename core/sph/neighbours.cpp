@@ -387,7 +387,7 @@ void NeighbourSearch::pairAgain(Verlet& v, const std::vector<int>& again, bool c
       const std::size_t js = static_cast<std::size_t>(j);
       const double reach = ri + v.r_wide[js];
       return (j != i) & ((body[js] != bi) == cross) &
-             !(in_again[js] & (j < i)) &  // a pair of two such comes from the lower one's search
+             !(in_again[js] & (j < i)) &  // two paired again: found by the lower one's search
              ((xi - v.x_built[js]).squaredNorm() < reach * reach);
     });
     for (const int j : near) {

@@ -60,8 +60,8 @@ Mat3 artificialStress(const Mat3& sigma, double epsilon) {
 }
 
 /// grad_i W_ij in the last step's configuration, for a pair the last step's list lacks.
-/// Inlined by force: a call in the kinematics' and the forces' pair loops, however rare, made
-/// GCC keep those loops' sums in memory across it (every SSE register is the caller's to save).
+/// Inlined by force: called (rarely) in the kinematics' walk over the last configuration, it
+/// made GCC keep that walk's sums in memory (across a call every SSE register is clobbered).
 [[gnu::always_inline]] inline Vec3 previousGradient(const SphSnapshot& prev, std::size_t i,
                                                      std::size_t j) {
   return kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
