@@ -88,7 +88,7 @@ FESPH_CHECKPOINT_FIELDS(Particles, 15 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
-                                          12 * kVec + 4 * kVec /* scratch */);
+                                          12 * kVec + 5 * kVec /* scratch */);
 FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
@@ -406,7 +406,8 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   // pair_last_slot are scratch: the next step swaps the current list, gradients and pair_stab
   // into the first three and writes the others before reading them (formats 2-7 hold the
   // first three; the reader skips them). Format 2 lacks pair_stab: readCheckpoint recomputes
-  // it. The mirror images (mirrors) are scratch: each step builds them afresh.
+  // it. The mirror images (mirrors) are scratch: each step builds them afresh, as it writes
+  // internal_energy before summing it.
   if (ar.version >= 3) ar.array("pair_stab", ws.pair_stab);
   ar.enter("current");
   transfer(ar, ws.current);

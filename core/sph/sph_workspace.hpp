@@ -94,6 +94,7 @@ struct SphWorkspace {
   std::vector<Mat3> stress_b;           ///< sigma_i B_i, Pa
   std::vector<double> plastic_work;     ///< per particle over the last step, J
   std::vector<double> av_work;          ///< stabilisation heat per particle, last step, J
+  std::vector<double> internal_energy;  ///< m e per particle after the step, J (scratch)
   /// Each particle's flow stress factors from its last step (material.hpp): scratch, not in
   /// the checkpoint, emptied when the particles are renumbered.
   std::vector<YieldCache> yield_cache;
