@@ -473,8 +473,8 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   }
 
   // Sums in a fixed order (same for any thread count), over contiguous arrays: read from the
-  // particles' states (one cache line each), this serial loop was 1.2 % of the SPH step on 2
-  // threads (docs/performance.md, twenty-sixth session).
+  // particles' states (a cache line each), this serial loop took 0.6 % of the SPH step's
+  // time on 2 threads, one thread waiting (docs/performance.md, twenty-sixth session).
   double internal = 0, plastic = 0, av = 0;
   for (std::size_t i = 0; i < n; ++i) {
     internal += ws.internal_energy[i];
