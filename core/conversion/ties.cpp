@@ -2,9 +2,12 @@
 #include "core/conversion/ties.hpp"
 
 #include "core/contact/surfaces.hpp"
+#include "core/common/omp_threads.hpp"
+#include "core/common/thread_buffer.hpp"
 #include "core/conversion/face_geometry.hpp"
 
 #include <cmath>
+#include <vector>
 
 namespace fesph {
 
@@ -62,12 +65,26 @@ long releaseTies(Model& model) {
 void enforceTies(Model& model, int passes) {
   Particles& pa = model.particles;
   Nodes& nd = model.nodes;
+  // The tied particles, ascending, found once for all passes: each thread lists a contiguous
+  // share (a static schedule deals them out in thread order), joined in that order. Every
+  // pass scanned every particle's tie before, serially (0.4 % of an FE-SPH run).
+  const long np = static_cast<long>(pa.size());
+  std::vector<ThreadBuffer<std::vector<int>>> shares(static_cast<std::size_t>(maxThreads()));
+#pragma omp parallel if (np > 4096)
+  {
+    std::vector<int>& mine = shares[static_cast<std::size_t>(threadId())].items;
+#pragma omp for schedule(static)
+    for (long p = 0; p < np; ++p)
+      if (pa.tie[p].active()) mine.push_back(static_cast<int>(p));
+  }
+  std::vector<int> tied;
+  for (const auto& share : shares) tied.insert(tied.end(), share.items.begin(), share.items.end());
+
   for (int k = 1; k <= passes; ++k) {
     const double alpha = 1.0 / std::sqrt(static_cast<double>(passes - k + 1));
     // Sequential in particle order: ties share face nodes, so the order must be fixed.
-    for (std::size_t p = 0; p < pa.size(); ++p) {
+    for (const int p : tied) {
       const Tie& t = pa.tie[p];
-      if (!t.active()) continue;
       Vec3 v_face = Vec3::Zero();
       double denom = 1.0;
       for (int i = 0; i < 3; ++i) {

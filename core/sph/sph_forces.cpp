@@ -501,6 +501,7 @@ void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
   // Broad phase: pairs that can come within their contact distance during the step.
   ws.contact_radius.resize(n);
   ws.contact_spacing.resize(n);
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     ws.contact_spacing[i] = std::cbrt(pa.V[i]);
     ws.contact_radius[i] = 0.5 * ws.contact_spacing[i] + dt * pa.v[i].norm();
