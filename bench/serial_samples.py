@@ -12,6 +12,7 @@ samples after the worker started, and the N functions (default 20) with most of 
 import bisect
 import collections
 import re
+import signal
 import subprocess
 import sys
 
@@ -48,6 +49,7 @@ def waiting(row):
 
 
 def main():
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # piped into head: stop quietly
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     top = int(sys.argv[2]) if len(sys.argv) > 2 else 20
