@@ -402,12 +402,12 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.array("neighbour_offset", ws.neighbours.offset);
   ar.array("neighbour_index", ws.neighbours.index);
   ar.array("pair_grad", ws.pair_grad);
-  // The last step's list and gradients (neighbours_last, pair_grad_last), pair_stab_last and
-  // pair_last_slot are scratch: the next step swaps the current list, gradients and pair_stab
-  // into the first three and writes the others before reading them (formats 2-7 hold the
-  // first three; the reader skips them). Format 2 lacks pair_stab: readCheckpoint recomputes
-  // it. The mirror images (mirrors) are scratch: each step builds them afresh, as it writes
-  // internal_energy before summing it.
+  // The last step's list and gradients (neighbours_last, pair_grad_last), pair_stab_last,
+  // pair_last_slot and internal_energy are scratch: the next step swaps the current list,
+  // gradients and pair_stab into the first three and writes the others before reading them
+  // (formats 2-7 hold the first three; the reader skips them). Format 2 lacks pair_stab:
+  // readCheckpoint recomputes it. The mirror images (mirrors) are scratch: each step builds
+  // them afresh.
   if (ar.version >= 3) ar.array("pair_stab", ws.pair_stab);
   ar.enter("current");
   transfer(ar, ws.current);
