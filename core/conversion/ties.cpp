@@ -67,10 +67,11 @@ void enforceTies(Model& model, int passes) {
   Nodes& nd = model.nodes;
   // The tied particles, ascending, found once for all passes: each thread lists a contiguous
   // share (a static schedule deals them out in thread order), joined in that order. Every
-  // pass scanned every particle's tie before, serially (0.4 % of an FE-SPH run).
+  // pass scanned every particle's tie before, serially (0.4 % of an FE-SPH run). Parallel
+  // from releaseTies' 32 particles on, so that the determinism test's few dozen split too.
   const long np = static_cast<long>(pa.size());
   std::vector<ThreadBuffer<std::vector<int>>> shares(static_cast<std::size_t>(maxThreads()));
-#pragma omp parallel if (np > 4096)
+#pragma omp parallel if (np > 32)
   {
     std::vector<int>& mine = shares[static_cast<std::size_t>(threadId())].items;
 #pragma omp for schedule(static)
