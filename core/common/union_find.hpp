@@ -17,6 +17,12 @@ class UnionFind {
     return a;
   }
 
+  /// find's answer without shortening the path on the way: threads may ask side by side.
+  int root(int a) const {
+    while (parent_[a] != a) a = parent_[a];
+    return a;
+  }
+
   /// Merges a's set into b's (b's representative stays the representative).
   void join(int a, int b) { parent_[find(a)] = find(b); }
 

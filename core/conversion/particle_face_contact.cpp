@@ -381,11 +381,10 @@ SweepGroups sweepGroups(const std::vector<int>& candidates, const std::vector<st
     for (std::size_t s = 0; s < n_slots; ++s) joined.join(static_cast<int>(s), share[t].find(s));
   // Groups by root slot, ascending, members ascending: a counting sort by root.
   std::vector<int> root_of(candidates.size());
+#pragma omp parallel for schedule(static)
+  for (long c = 0; c < nc; ++c) root_of[c] = joined.root(viable[offset[candidates[c]]].slot);
   std::vector<std::size_t> fill(n_slots + 1, 0);
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    root_of[c] = joined.find(viable[offset[candidates[c]]].slot);
-    ++fill[static_cast<std::size_t>(root_of[c]) + 1];
-  }
+  for (int root : root_of) ++fill[static_cast<std::size_t>(root) + 1];
   for (std::size_t s = 0; s < n_slots; ++s) {
     if (fill[s + 1] > 0) g.start.push_back(fill[s]);
     fill[s + 1] += fill[s];
