@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <exception>
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress and summary lines appear as they come
@@ -86,10 +87,18 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
-  if (*run_cmd) return fesph::runCommand(run);
-  if (*render_cmd) return fesph::renderCommand(render);
-  if (*report_cmd) return fesph::reportCommand(report);
-  if (*compare_cmd) return fesph::compareCommand(compare);
-  if (*shell_cmd) return fesph::shellCommand(shell);
+  // The commands report bad input (2) and failed runs (1) themselves; anything else that
+  // escapes them is a defect of fesph, said plainly rather than aborting.
+  try {
+    if (*run_cmd) return fesph::runCommand(run);
+    if (*render_cmd) return fesph::renderCommand(render);
+    if (*report_cmd) return fesph::reportCommand(report);
+    if (*compare_cmd) return fesph::compareCommand(compare);
+    if (*shell_cmd) return fesph::shellCommand(shell);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fesph: internal error: %s\n(a defect of fesph, not of the input: please "
+                         "report it with the command line)\n", e.what());
+    return 3;
+  }
   return 2;
 }

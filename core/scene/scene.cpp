@@ -100,8 +100,11 @@ std::string applyResolution(toml::table& root, const std::string& file) {
 
 // ---- pieces of the scene ----------------------------------------------------------------
 
-std::string findMaterialLibrary(const fs::path& scene_dir) {
-  for (fs::path d = fs::absolute(scene_dir); !d.empty(); d = d.parent_path()) {
+// The scene's folder and its parents, nearest first; `scene` may be a bare file name (its
+// folder is then the working one: the parent path of "scene.toml" is empty, and
+// fs::absolute throws on an empty path).
+std::string findMaterialLibrary(const fs::path& scene) {
+  for (fs::path d = fs::absolute(scene).parent_path(); !d.empty(); d = d.parent_path()) {
     const fs::path candidate = d / "materials.toml";
     if (fs::exists(candidate)) return candidate.string();
     const fs::path in_scenes = d / "scenes" / "materials.toml";
@@ -451,7 +454,7 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   readSph(table(root, "sph", file), file, sc);
 
   const std::string lib_path =
-      material_library.empty() ? findMaterialLibrary(fs::path(path).parent_path())
+      material_library.empty() ? findMaterialLibrary(path)
                                : material_library;
   const MaterialLibrary lib = MaterialLibrary::load(lib_path);
   sc.material_library = lib_path;

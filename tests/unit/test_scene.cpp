@@ -64,6 +64,18 @@ TEST_CASE("a valid scene loads", "[unit][scene]") {
   REQUIRE(sc.bodies[0].velocity.z() == -100);
 }
 
+TEST_CASE("a scene named without its folder finds a material library", "[unit][scene]") {
+  // `fesph run scene.toml` in the scene's folder: "scene.toml" has an empty parent path, on
+  // which the library search threw std::filesystem's error (the run aborted).
+  const fs::path dir = fs::path(writeScene("bare.toml", kGoodScene)).parent_path();
+  const fs::path before = fs::current_path();
+  fs::current_path(dir);
+  std::string found;
+  CHECK_NOTHROW(found = loadScene("bare.toml").material_library);
+  fs::current_path(before);
+  REQUIRE(fs::exists(found));
+}
+
 TEST_CASE("a typo'd key is an error at its line", "[unit][scene]") {
   const std::string path =
       writeScene("typo.toml", replace(kGoodScene, "end_time = 1e-6", "end_tme = 1e-6"));
