@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `fesph compare`: the holes in a photograph of a tested plate against the simulated plate of a
 // run: hole count, areas, equivalent diameters, intersection-over-union, and the images.
+#include "app/cli_checks.hpp"
 #include "app/commands.hpp"
 
 #include "core/common/error.hpp"
@@ -106,7 +107,7 @@ void addCompareOptions(CLI::App& cmd, CompareCommandOptions& o) {
   cmd.add_option("--image", o.image, "Photograph (PNG, JPEG, TIFF, BMP, PNM)")
       ->required()->check(CLI::ExistingFile);
   cmd.add_option("--mm-per-px", o.mm_per_px, "Photograph scale, mm per pixel")
-      ->required()->check(CLI::PositiveNumber);
+      ->required()->check(positiveNumber());
   cmd.add_option("--center", o.center,
                  "X,Y: pixel (column, row from the top left) of the plate's centre "
                  "(default: align the holes' centroids)");
@@ -117,7 +118,8 @@ void addCompareOptions(CLI::App& cmd, CompareCommandOptions& o) {
       ->check(CLI::IsMember({"dark", "bright"}));
   cmd.add_option("--face", o.face, "Face photographed: front (default) or rear")
       ->check(CLI::IsMember({"front", "rear"}));
-  cmd.add_option("--time", o.time, "Output time of the run in s (default: the last)");
+  cmd.add_option("--time", o.time, "Output time of the run in s (default: the last)")
+      ->check(nonNegativeNumber());
   cmd.add_option("--out", o.out, "Output folder (default RUN_DIR/compare)");
 }
 

@@ -6,6 +6,7 @@
 //   render RUN_DIR draw the report images of a finished run
 //   shell [SCENE | RUN_DIR]   interactive workbench (also reads a script: fesph shell < steps.txt)
 //   compare RUN_DIR --plate N --image PHOTO --mm-per-px S   holes of a photograph vs the run
+#include "app/cli_checks.hpp"
 #include "app/commands.hpp"
 #include "app/shell.hpp"
 
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
   });
   run_cmd->add_option("--out", run.out, "Output folder (default: the scene's [output].folder)");
   run_cmd->add_option("--end-time", run.end_time, "End time in s (overrides the scene)")
-      ->check(CLI::PositiveNumber);
+      ->check(fesph::positiveNumber());
   run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   run_cmd->add_option("--set", run.overrides,
@@ -52,7 +53,8 @@ int main(int argc, char** argv) {
       app.add_subcommand("render", "Draw plate images, section, velocity plot and hole metrics");
   render_cmd->add_option("run_dir", render.run_dir, "Run folder (holds elements.pvd)")
       ->required()->check(CLI::ExistingDirectory);
-  render_cmd->add_option("--time", render.times, "Output time(s) in s (default: the last)");
+  render_cmd->add_option("--time", render.times, "Output time(s) in s (default: the last)")
+      ->check(fesph::nonNegativeNumber());
   render_cmd->add_option("--field", render.field, "Cell field to colour by (default damage)");
   render_cmd->add_option("--size", render.size, "Image size WxH in pixels (default 1600x1200)");
   render_cmd->add_option("--out", render.out, "Image folder (default RUN_DIR/images)");

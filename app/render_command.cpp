@@ -9,6 +9,7 @@
 #include "render/section_view.hpp"
 #include "render/velocity_plot.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -24,6 +25,11 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   o.field = field;
   fs::create_directories(out_dir);
   const std::vector<PlateImages> plates = renderPlateImages(run_dir, time, o, out_dir);
+  // A time between outputs or past the run's end (one typed in us, not s) draws the nearest
+  // output: say which.
+  if (time >= 0 && !plates.empty() && std::abs(plates.front().time - time) > 1e-9 * time)
+    std::printf("  no output at t = %g s: drawn at the nearest, t = %g s\n", time,
+                plates.front().time);
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);

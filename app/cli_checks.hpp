@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+// Command-line checks whose messages say what was expected: CLI11's PositiveNumber answers
+// "abc" and -1 alike with a range that ends at the largest double, written out in 309 digits.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace fesph {
+
+/// A finite number above 0 (or at 0 too: `zero_allowed`).
+inline CLI::Validator finiteNumber(bool zero_allowed) {
+  const std::string expected = zero_allowed ? "a number >= 0" : "a number > 0";
+  return CLI::Validator(
+      [zero_allowed, expected](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double value = 0;
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size()) return "expected a number, got '" + text + "'";
+        if (!std::isfinite(value) || value < 0 || (value == 0 && !zero_allowed))
+          return "expected " + expected + ", got " + text;
+        return "";
+      },
+      zero_allowed ? "NUMBER >= 0" : "NUMBER > 0");
+}
+
+/// A time in s, a scale: a finite number > 0.
+inline CLI::Validator positiveNumber() { return finiteNumber(false); }
+
+/// A time in s that may be the start: a finite number >= 0.
+inline CLI::Validator nonNegativeNumber() { return finiteNumber(true); }
+
+}  // namespace fesph

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+// `fesph run` and `fesph render` through the binary: a scene named from its own folder, and
+// command-line values that say what was expected when they are wrong.
+#include "tests/support/temp_folder.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+using fesph::testing::TempFolder;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = 0;
+  std::string out;  ///< stdout and stderr
+};
+
+Result command(const std::string& args, const fs::path& dir) {
+  const std::string cmd =
+      "cd '" + dir.string() + "' && " + std::string(FESPH_BINARY) + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
+  r.code = WEXITSTATUS(pclose(p));
+  return r;
+}
+
+bool has(const std::string& text, const std::string& what) {
+  return text.find(what) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("fesph run and render: a scene named from its own folder; times given wrong", "[app]") {
+  const TempFolder dir("command_line");
+  fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml", dir.path / "scene.toml");
+
+  // "scene.toml" has an empty parent path: the material library search aborted on it.
+  const Result run = command("run scene.toml --end-time 1e-6 --out run --quiet --no-images", dir.path);
+  INFO(run.out);
+  REQUIRE(run.code == 0);
+  REQUIRE(fs::exists(dir.path / "run" / "elements.pvd"));
+
+  // CLI11's own check printed the largest double, 309 digits, as the end of the range.
+  for (const char* value : {"abc", "1e-6x"}) {
+    const Result r = command(std::string("run scene.toml --end-time ") + value, dir.path);
+    INFO(r.out);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, std::string("--end-time: expected a number, got '") + value + "'"));
+    CHECK(!has(r.out, "179769"));
+  }
+  for (const char* value : {"-1", "0", "inf", "nan"}) {
+    const Result r = command(std::string("run scene.toml --end-time ") + value, dir.path);
+    INFO(r.out);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, std::string("--end-time: expected a number > 0, got ") + value));
+  }
+
+  // A time between outputs or past the end (typed in us, not s) is drawn at the nearest
+  // output, and says so; a negative one is an error (it used to draw the last output).
+  const Result past = command("render run --time 5 --size 64x64", dir.path);
+  INFO(past.out);
+  CHECK(past.code == 0);
+  CHECK(has(past.out, "no output at t = 5 s: drawn at the nearest, t = 1e-06 s"));
+  const Result exact = command("render run --time 1e-6 --size 64x64", dir.path);
+  INFO(exact.out);
+  CHECK(exact.code == 0);
+  CHECK(!has(exact.out, "no output at"));
+  const Result negative = command("render run --time -1", dir.path);
+  INFO(negative.out);
+  CHECK(negative.code == 2);
+  CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
+}
