@@ -335,6 +335,7 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
              "rotation", "shape"},
             "[[bodies]]");
   SceneBody b;
+  b.line = static_cast<int>(t.source().begin.line);
   b.name = string(t, "name", file);
   b.material = string(t, "material", file);
   b.discretisation = choice(t, "discretisation", file, {"fem", "sph"}, std::string("fem")) == "sph"

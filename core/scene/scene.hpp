@@ -28,6 +28,7 @@ struct SceneBody {
   std::variant<PlateSpec, ProjectileSpec, MshShape> shape;
   Placement placement;
   Vec3 velocity = Vec3::Zero();
+  int line = 0;  ///< line of its [[bodies]] table in the scene file
 };
 
 struct FixedBoundary {

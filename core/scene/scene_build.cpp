@@ -3,10 +3,12 @@
 #include "core/scene/scene.hpp"
 
 #include "core/common/error.hpp"
+#include "core/scene/initial_overlap.hpp"
 #include "core/sph/particle_body.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ostream>
 
 namespace fesph {
@@ -93,6 +95,20 @@ Model buildModel(const Scene& sc, std::ostream* log) {
   }
   for (const SymmetryPlane& s : sc.symmetry) addSymmetryPlane(model, s);
   finaliseModel(model);
+  if (const auto o = findInitialOverlap(model)) {
+    const SceneBody& inner = sc.bodies[static_cast<std::size_t>(o->inner)];
+    const SceneBody& outer = sc.bodies[static_cast<std::size_t>(o->outer)];
+    const Vec3 mm = 1e3 * o->example;
+    char at[96];
+    std::snprintf(at, sizeof at, "(%.4g, %.4g, %.4g) mm", mm.x(), mm.y(), mm.z());
+    throw InputError(sc.path, inner.line, 0,
+                     "bodies '" + outer.name + "' (line " + std::to_string(outer.line) + ") and '" +
+                         inner.name + "' overlap at the start: " + std::to_string(o->points) + " " +
+                         (inner.discretisation == Discretisation::Sph ? "particles" : "nodes") +
+                         " of '" + inner.name + "' lie inside elements of '" + outer.name +
+                         "', the first at " + at +
+                         "; move them apart (a body's position) so that they at most touch");
+  }
   return model;
 }
 

@@ -159,6 +159,43 @@ TEST_CASE("two symmetry planes on one axis are an error at the second", "[unit][
   REQUIRE(x_and_y.symmetry.size() == 2);
 }
 
+// A plate below kGoodScene's bar (nose at z = 0, pointing down) with its front face at z.
+std::string withPlateAt(double z) {
+  return std::string(kGoodScene) + R"([[bodies]]
+name = "plate"
+material = "steel_4340"
+position = [0, 0, )" + std::to_string(z) + R"(]
+[bodies.shape]
+type = "plate"
+size_x = 12e-3
+size_y = 12e-3
+thickness = 2e-3
+mesh_size = 2e-3
+coarse_size = 2e-3
+)";
+}
+
+TEST_CASE("bodies that overlap at the start are refused with their lines", "[unit][scene]") {
+  // The plate's front face 1 mm below the nose: apart. 1 mm above it: the bar's nose is in
+  // the plate (a sign typo in a position), which the first contact passes would throw out.
+  const Scene apart = loadScene(writeScene("apart.toml", withPlateAt(-1e-3)), {}, library());
+  REQUIRE_NOTHROW(buildModel(apart));
+  const std::string path = writeScene("overlap.toml", withPlateAt(1e-3));
+  const Scene sc = loadScene(path, {}, library());
+  try {
+    buildModel(sc);
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    REQUIRE(e.file() == path);
+    REQUIRE((e.line() == 4 || e.line() == 13));  // the [[bodies]] of the bar or the plate
+    REQUIRE(std::string(e.what()).find("overlap at the start") != std::string::npos);
+    REQUIRE(std::string(e.what()).find("'bar'") != std::string::npos);
+    REQUIRE(std::string(e.what()).find("'plate'") != std::string::npos);
+  }
+  REQUIRE(runCli(path) == 2);
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
