@@ -5,6 +5,7 @@
 #include "core/material/library.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -337,6 +338,14 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
   SceneBody b;
   b.line = static_cast<int>(t.source().begin.line);
   b.name = string(t, "name", file);
+  // A body's name names its image files and its history columns: no path, no separator.
+  const bool plain = !b.name.empty() && std::all_of(b.name.begin(), b.name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  if (!plain)
+    fail(file, where(t, "name"),
+         "'name' must be letters, digits, '_' and '-' (it names image files and history "
+         "columns), got '" + b.name + "'");
   b.material = string(t, "material", file);
   b.discretisation = choice(t, "discretisation", file, {"fem", "sph"}, std::string("fem")) == "sph"
                          ? Discretisation::Sph

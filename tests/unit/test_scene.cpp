@@ -123,7 +123,11 @@ TEST_CASE("impossible values are rejected with their line", "[unit][scene]") {
   };
   for (const Case& c : {Case{"end_time = 1e-6", "end_time = -1.0", 3},
                         Case{"length = 8e-3", "length = 0.0", 11},
-                        Case{"velocity = [0, 0, -100]", "velocity = [0, -100]", 7}}) {
+                        Case{"velocity = [0, 0, -100]", "velocity = [0, -100]", 7},
+                        // a name is a file name and a column: it wrote ../x_front.png
+                        Case{"name = \"bar\"", "name = \"../bar\"", 5},
+                        Case{"name = \"bar\"", "name = \"a bar\"", 5},
+                        Case{"name = \"bar\"", "name = \"\"", 5}}) {
     const std::string path = writeScene("impossible.toml", replace(kGoodScene, c.from, c.to));
     try {
       loadScene(path, {}, library());
