@@ -61,6 +61,20 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
 void RunSession::restart(const std::string& checkpoint, const std::vector<std::string>& overrides,
                          const std::string& out_folder, std::ostream* log) {
   opened_ = std::chrono::steady_clock::now();
+  // A checkpoint holds the meshes, materials, symmetry planes and state: a change to any of
+  // them would be read and then never used. Refused, not ignored.
+  for (const std::string& o : overrides) {
+    const std::string key = o.substr(0, o.find('='));
+    for (const std::string fixed : {"bodies", "materials", "boundary", "resolution",
+                                    "resolutions", "simulation.symmetry"}) {
+      if (key != fixed && key.rfind(fixed + ".", 0) != 0) continue;
+      throw InputError("--set " + o, 0, 0,
+                       "a restart goes on with the checkpoint's meshes, materials and state: '" +
+                           fixed + "' cannot change (the rest of [simulation], and [output], "
+                           "[contact], [conversion], [sph] and [reference] can); run the scene "
+                           "again instead");
+    }
+  }
   RunProgress saved;
   model_ = readCheckpoint(checkpoint, saved);
   std::vector<std::string> all = saved.overrides;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// `fesph run` and `fesph render` through the binary: a scene named from its own folder, and
-// command-line values that say what was expected when they are wrong.
+// `fesph run` and `fesph render` through the binary: a scene named from its own folder,
+// command-line values that say what was expected when they are wrong, and a restart that
+// refuses changes it could not make.
 #include "tests/support/temp_folder.hpp"
 
 #include <catch2/catch.hpp>
@@ -77,4 +78,39 @@ TEST_CASE("fesph run and render: a scene named from its own folder; times given 
   INFO(negative.out);
   CHECK(negative.code == 2);
   CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
+}
+
+TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]") {
+  const TempFolder dir("restart_changes");
+  const std::string scene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
+  const Result first = command("run " + scene + " --end-time 2e-6 --out run --quiet --no-images " +
+                                   "--set output.checkpoint_interval=1e-6",
+                               dir.path);
+  INFO(first.out);
+  REQUIRE(first.code == 0);
+  fs::path saved;
+  for (const auto& f : fs::directory_iterator(dir.path / "run"))
+    if (f.path().extension() == ".h5" && f.path().filename().string().rfind("checkpoint_", 0) == 0)
+      saved = f.path();
+  REQUIRE(!saved.empty());
+
+  // The meshes, materials and symmetry are the checkpoint's: such a change was read and then
+  // silently never used.
+  for (const char* change : {"bodies.0.velocity=[0,0,-10]", "materials.A36.density=1000",
+                             "bodies.plate.shape.thickness=9e-3", "resolution=\"quick\"",
+                             "simulation.symmetry=\"half\""}) {
+    const Result r =
+        command("run --restart " + saved.string() + " --end-time 3e-6 --quiet --no-images --set '" +
+                    change + "'",
+                dir.path);
+    INFO(r.out);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "cannot change"));
+  }
+  // The controls can.
+  const Result on = command("run --restart " + saved.string() +
+                                " --end-time 3e-6 --quiet --no-images --set simulation.courant=0.4",
+                            dir.path);
+  INFO(on.out);
+  CHECK(on.code == 0);
 }
