@@ -13,6 +13,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -61,9 +62,14 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
 void RunSession::restart(const std::string& checkpoint, const std::vector<std::string>& overrides,
                          const std::string& out_folder, std::ostream* log) {
   opened_ = std::chrono::steady_clock::now();
+  RunProgress saved;
+  model_ = readCheckpoint(checkpoint, saved);
   // A checkpoint holds the meshes, materials, symmetry planes and state: a change to any of
-  // them would be read and then never used. Refused, not ignored.
+  // them would be read and then never used. Refused, not ignored (the run's own overrides,
+  // given again, change nothing).
   for (const std::string& o : overrides) {
+    if (std::find(saved.overrides.begin(), saved.overrides.end(), o) != saved.overrides.end())
+      continue;
     const std::string key = o.substr(0, o.find('='));
     for (const std::string fixed : {"bodies", "materials", "boundary", "resolution",
                                     "resolutions", "simulation.symmetry"}) {
@@ -75,8 +81,6 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
                            "again instead");
     }
   }
-  RunProgress saved;
-  model_ = readCheckpoint(checkpoint, saved);
   std::vector<std::string> all = saved.overrides;
   all.insert(all.end(), overrides.begin(), overrides.end());
   scene_ = loadSceneText(saved.scene_text, saved.scene_path, all, saved.material_library);

@@ -136,13 +136,16 @@ std::optional<InitialOverlap> findInitialOverlap(const Model& model) {
   for (int outer = 0; outer < nb; ++outer) {
     const Body& body = model.bodies[static_cast<std::size_t>(outer)];
     if (body.elem_end == body.elem_begin) continue;
-    std::optional<ElementGrid> grid;  // built once a body's points come near
+    std::optional<ElementGrid> grid;  // built only when another body's bounds meet its own
     for (int inner = 0; inner < nb; ++inner) {
       if (inner == outer || !bounds[inner].meets(bounds[outer])) continue;
       if (!grid) grid.emplace(model, body, bounds[outer]);
       InitialOverlap o{inner, outer, 0, Vec3::Zero()};
-      for (const Vec3& p : points[inner])
-        if (bounds[outer].contains(p) && grid->inside(p) && o.points++ == 0) o.example = p;
+      for (const Vec3& p : points[inner]) {
+        if (!bounds[outer].contains(p) || !grid->inside(p)) continue;
+        if (o.points == 0) o.example = p;
+        ++o.points;
+      }
       if (o.points > 0) return o;
     }
   }

@@ -83,8 +83,9 @@ TEST_CASE("fesph run and render: a scene named from its own folder; times given 
 TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]") {
   const TempFolder dir("restart_changes");
   const std::string scene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
+  const std::string own = " --set 'bodies.0.velocity=[0,0,-500]'";  // the run's own override
   const Result first = command("run " + scene + " --end-time 2e-6 --out run --quiet --no-images " +
-                                   "--set output.checkpoint_interval=1e-6",
+                                   "--set output.checkpoint_interval=1e-6" + own,
                                dir.path);
   INFO(first.out);
   REQUIRE(first.code == 0);
@@ -107,9 +108,10 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
     CHECK(r.code == 2);
     CHECK(has(r.out, "cannot change"));
   }
-  // The controls can.
+  // The controls can, and the run's own overrides given again change nothing.
   const Result on = command("run --restart " + saved.string() +
-                                " --end-time 3e-6 --quiet --no-images --set simulation.courant=0.4",
+                                " --end-time 3e-6 --quiet --no-images --set simulation.courant=0.4" +
+                                own,
                             dir.path);
   INFO(on.out);
   CHECK(on.code == 0);
