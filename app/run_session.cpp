@@ -190,6 +190,7 @@ bool RunSession::complete() const { return reached(model_.time, endTime()); }
 
 void RunSession::writeOutput() {
   series_->write(model_, model_.time);
+  last_output_time_ = model_.time;
   crossings_->writeCsv(folder() + "/residual_velocities.csv");
   // A run killed outright (SIGKILL, the machine going down) cannot write its summary at the
   // end: this one, at its last output, says how far it got instead of an earlier segment's.
@@ -252,7 +253,28 @@ StopReason RunSession::advance(double until_time, long max_steps,
       failure_ += std::string(" (and the residual velocities were not rewritten: ") + c.what() +
                   ")";
     }
+    writeFailedState();
     return StopReason::Failed;
+  }
+}
+
+void RunSession::writeFailedState() {
+  // The state the run stopped in, as its last output: the error names an element or a
+  // particle, and this is where to look at it. Not when it holds non-finite positions or
+  // velocities (nothing could draw them), nor twice at one time.
+  const auto finite = [](const std::vector<Vec3>& field) {
+    return std::all_of(field.begin(), field.end(), [](const Vec3& a) { return a.allFinite(); });
+  };
+  if (!(model_.time > last_output_time_)) return;
+  if (!finite(model_.nodes.x) || !finite(model_.nodes.v) || !finite(model_.particles.x) ||
+      !finite(model_.particles.v)) {
+    failure_ += " (the state it stopped in holds non-finite values: not written as an output)";
+    return;
+  }
+  try {
+    writeOutput();
+  } catch (const std::exception& w) {
+    failure_ += std::string(" (and the state it stopped in was not written: ") + w.what() + ")";
   }
 }
 

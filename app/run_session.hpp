@@ -98,6 +98,7 @@ class RunSession {
   void writeOutput();
   void recordHistory();
   void refuseToCutLaterCheckpoints(const std::string& checkpoint) const;
+  void writeFailedState();
   void openWriters(bool resume, const RunProgress& progress);
   RunProgress progress() const;
 
@@ -111,6 +112,7 @@ class RunSession {
   std::string failure_;
   bool started_ = false;     ///< the initial output is written
   long output_index_ = 0;    ///< field outputs written after the initial one
+  double last_output_time_ = -1;  ///< time of the last field output written, s
   double next_output_ = 0;   ///< time of the next field output, s
   double next_checkpoint_ = 0;  ///< time of the next checkpoint, s
   double wall_solver_ = 0;   ///< s spent in step()

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `fesph run` and `fesph render` through the binary: a scene named from its own folder,
-// command-line values that say what was expected when they are wrong, and a restart that
-// refuses changes it could not make.
+// command-line values that say what was expected when they are wrong, a restart that refuses
+// changes it could not make, and a failed run's last state.
 #include "tests/support/temp_folder.hpp"
 
 #include <catch2/catch.hpp>
@@ -10,7 +10,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
 #include <string>
+#include <vector>
 
 using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
@@ -115,4 +119,28 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
                             dir.path);
   INFO(on.out);
   CHECK(on.code == 0);
+}
+
+TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app]") {
+  // A time step floor the run falls under at its 17th step: the error names the element whose
+  // step collapsed, and the state is where to look at it.
+  const TempFolder dir("failed_state");
+  const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
+                               " --set simulation.dt_min=3e-8 --out run --quiet --no-images",
+                           dir.path);
+  INFO(r.out);
+  REQUIRE(r.code == 1);
+  std::smatch stopped;
+  REQUIRE(std::regex_search(r.out, stopped, std::regex("run stopped at t = ([0-9.e+-]+) s")));
+  std::ifstream pvd(dir.path / "run" / "elements.pvd");
+  const std::string text((std::istreambuf_iterator<char>(pvd)), std::istreambuf_iterator<char>());
+  std::vector<double> times;
+  const std::regex timestep("timestep=\"([0-9.e+-]+)\"");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), timestep);
+       it != std::sregex_iterator(); ++it)
+    times.push_back(std::stod((*it)[1]));
+  REQUIRE(times.size() == 2);  // the start, and the state it stopped in (before any output)
+  CHECK(times[0] == 0);
+  CHECK(times[1] == Approx(std::stod(stopped[1])).epsilon(1e-5));
+  CHECK(fs::exists(dir.path / "run" / "elements_000001.vtu"));
 }
