@@ -107,6 +107,7 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   if (own) refuseToCutLaterCheckpoints(checkpoint);
   openWriters(own, saved);
   started_ = true;
+  last_output_time_ = series_->lastTime();  // the series cut back to the checkpoint, or fresh
   output_index_ = saved.output_index;
   next_output_ = saved.next_output;
   next_checkpoint_ = saved.next_checkpoint;

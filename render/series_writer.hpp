@@ -62,6 +62,10 @@ class SeriesWriter {
 
   /// Number of steps in the series so far (the index of the next file).
   std::size_t outputCount() const { return elements_.entries().size(); }
+  /// Time of the last step in the series (s); -1 while it has none.
+  double lastTime() const {
+    return elements_.entries().empty() ? -1.0 : elements_.entries().back().time;
+  }
   const std::filesystem::path& folder() const { return folder_; }
 
   /// Names accepted in SeriesOptions::fields for the element series.
