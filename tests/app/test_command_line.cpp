@@ -41,6 +41,17 @@ bool has(const std::string& text, const std::string& what) {
   return text.find(what) != std::string::npos;
 }
 
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 }  // namespace
 
 TEST_CASE("fesph run and render: a scene named from its own folder; times given wrong", "[app]") {
@@ -93,9 +104,9 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
                                dir.path);
   INFO(first.out);
   REQUIRE(first.code == 0);
-  fs::path saved;
+  fs::path saved;  // the newest (checkpoint_STEP.h5, zero-padded): an older one is refused
   for (const auto& f : fs::directory_iterator(dir.path / "run"))
-    if (f.path().extension() == ".h5" && f.path().filename().string().rfind("checkpoint_", 0) == 0)
+    if (f.path().filename().string().rfind("checkpoint_", 0) == 0 && f.path() > saved)
       saved = f.path();
   REQUIRE(!saved.empty());
 
@@ -119,6 +130,17 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
                             dir.path);
   INFO(on.out);
   CHECK(on.code == 0);
+
+  // Failing at once, at the checkpoint's time (a time step floor of 1 s), in a fresh folder:
+  // the state it stopped in, the checkpoint's, is that folder's one output.
+  const Result failed = command("run --restart " + saved.string() +
+                                    " --out fresh --end-time 3e-6 --quiet --no-images --set simulation.dt_min=1",
+                                dir.path);
+  INFO(failed.out);
+  CHECK(failed.code == 1);
+  const std::string pvd = slurp(dir.path / "fresh" / "elements.pvd");
+  CHECK(count(pvd, "<DataSet") == 1);
+  CHECK(has(pvd, "timestep=\"2e-06\""));
 }
 
 TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app]") {
@@ -132,8 +154,7 @@ TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app
   REQUIRE(r.code == 1);
   std::smatch stopped;
   REQUIRE(std::regex_search(r.out, stopped, std::regex("run stopped at t = ([0-9.e+-]+) s")));
-  std::ifstream pvd(dir.path / "run" / "elements.pvd");
-  const std::string text((std::istreambuf_iterator<char>(pvd)), std::istreambuf_iterator<char>());
+  const std::string text = slurp(dir.path / "run" / "elements.pvd");
   std::vector<double> times;
   const std::regex timestep("timestep=\"([0-9.e+-]+)\"");
   for (auto it = std::sregex_iterator(text.begin(), text.end(), timestep);
