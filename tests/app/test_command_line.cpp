@@ -3,6 +3,7 @@
 // command-line values that say what was expected when they are wrong, a restart that refuses
 // changes it could not make, and a failed run's last state.
 #include "tests/support/temp_folder.hpp"
+#include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -10,12 +11,12 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <regex>
 #include <string>
 #include <vector>
 
+using fesph::testing::occurrences;
+using fesph::testing::slurp;
 using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
 
@@ -39,17 +40,6 @@ Result command(const std::string& args, const fs::path& dir) {
 
 bool has(const std::string& text, const std::string& what) {
   return text.find(what) != std::string::npos;
-}
-
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 }  // namespace
@@ -139,7 +129,7 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
   INFO(failed.out);
   CHECK(failed.code == 1);
   const std::string pvd = slurp(dir.path / "fresh" / "elements.pvd");
-  CHECK(count(pvd, "<DataSet") == 1);
+  CHECK(occurrences(pvd, "<DataSet") == 1);
   CHECK(has(pvd, "timestep=\"2e-06\""));
 }
 

@@ -5,6 +5,7 @@
 // Ctrl-C pausing a run without losing its state).
 #include "core/io/checkpoint.hpp"
 #include "tests/support/temp_folder.hpp"
+#include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -22,6 +23,8 @@
 #include <sstream>
 #include <thread>
 
+using fesph::testing::occurrences;
+using fesph::testing::slurp;
 using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
 
@@ -45,18 +48,6 @@ Result shell(const std::string& args, const std::string& script, const fs::path&
   while (std::fgets(buf, sizeof buf, p)) r.out += buf;
   r.code = WEXITSTATUS(pclose(p));
   return r;
-}
-
-std::size_t count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
-std::string slurp(const fs::path& p) {
-  std::stringstream s;
-  s << std::ifstream(p).rdbuf();
-  return s.str();
 }
 
 /// The line of `text` that starts with `prefix` (after blanks); empty if none.
@@ -215,7 +206,7 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(r.out.find("End time reached: t = 3e-06 s") != std::string::npos);
 
   // Probe: the projectile has slowed down from 600 m/s, and the budget is printed.
-  REQUIRE(count(r.out, "projectile 'projectile'\n") == 2);
+  REQUIRE(occurrences(r.out, "projectile 'projectile'\n") == 2);
   const std::string last = r.out.substr(r.out.rfind("projectile 'projectile'\n"));
   REQUIRE(std::regex_search(last, m, std::regex("\\|v\\| ([0-9.]+) m/s")));
   CHECK(std::stod(m[1]) < 590);
@@ -224,11 +215,11 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(last.find("balance error ") != std::string::npos);
 
   // Files: the series at the scene's cadence (0, 1, 2, 3 us), the images, the export.
-  CHECK(count(slurp(out / "elements.pvd"), "<DataSet") == 4);
+  CHECK(occurrences(slurp(out / "elements.pvd"), "<DataSet") == 4);
   CHECK(fs::file_size(out / "shell" / "t_3e-06" / "plate_rear.png") > 1000);
   CHECK(fs::file_size(out / "shell" / "t_3e-06" / "plate_front.png") > 1000);
   CHECK(fs::file_size(out / "shell" / "velocity.png") > 1000);
-  CHECK(count(slurp(out / "export" / "t_3e-06" / "elements.pvd"), "<DataSet") == 1);
+  CHECK(occurrences(slurp(out / "export" / "t_3e-06" / "elements.pvd"), "<DataSet") == 1);
   CHECK(slurp(dir.path / "changed.toml").find("end_time = 3e-06") != std::string::npos);
   CHECK(r.out.find("model      t = 3e-06 s of 3e-06 s, step ") != std::string::npos);
   // compare: the photograph's hole of 20 px radius at 0.1 mm/px is 12.57 mm^2.
@@ -262,7 +253,7 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(f.out.find("Run folder " + out.string()) != std::string::npos);
   CHECK(f.out.find("simulation.end_time = 3e-06\n") != std::string::npos);  // with its --set
   CHECK(fs::exists(out / "shell" / "t_3e-06" / "plate_front.png"));
-  CHECK(count(f.out, "a run folder holds no model to run or probe") == 2);
+  CHECK(occurrences(f.out, "a run folder holds no model to run or probe") == 2);
 }
 
 TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[app][shell]") {

@@ -10,6 +10,7 @@
 #include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
 #include "tests/support/temp_folder.hpp"
+#include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -24,9 +25,9 @@
 #include <fstream>
 #include <random>
 #include <regex>
-#include <sstream>
 
 using namespace fesph;
+using fesph::testing::slurp;
 using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
 
@@ -112,11 +113,6 @@ double jsonNumber(const std::string& json, const std::string& key) {
   return std::stod(m[1]);
 }
 
-std::string slurp(const fs::path& p) {
-  std::stringstream s;
-  s << std::ifstream(p).rdbuf();
-  return s.str();
-}
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include "render/series_writer.hpp"
 
 #include "tests/support/temp_folder.hpp"
+#include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -15,11 +16,10 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include <fstream>
-#include <sstream>
 #include <unistd.h>
 
 using namespace fesph;
+using fesph::testing::slurp;
 using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
 
@@ -115,12 +115,6 @@ vtkSmartPointer<vtkUnstructuredGrid> readVtu(const fs::path& file) {
   return reader->GetOutput();
 }
 
-std::string readText(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// Text between `key="` and the next quote, searching from `at`.
 std::string quoted(const std::string& text, const std::string& key, std::size_t at) {
@@ -130,7 +124,7 @@ std::string quoted(const std::string& text, const std::string& key, std::size_t 
 
 /// (timestep, file) attribute pairs of the .pvd, as text (independent of PvdCollection).
 std::vector<std::pair<std::string, std::string>> pvdEntries(const fs::path& pvd) {
-  const std::string text = readText(pvd);
+  const std::string text = slurp(pvd);
   std::vector<std::pair<std::string, std::string>> out;
   for (std::size_t at = text.find("<DataSet "); at != std::string::npos;
        at = text.find("<DataSet ", at + 1))
@@ -166,7 +160,7 @@ TEST_CASE("SeriesWriter writes live tets with exact values and a .pvd", "[unit][
   CHECK(entries[2] == std::make_pair(std::string("2.5e-05"), std::string("elements_000002.vtu")));
   CHECK_FALSE(hasTemporaryFiles(dir.path / "out"));
 
-  const std::string raw = readText(dir.path / "out" / "elements_000002.vtu");
+  const std::string raw = slurp(dir.path / "out" / "elements_000002.vtu");
   CHECK(raw.find("header_type=\"UInt64\"") != std::string::npos);
   CHECK(raw.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos);
   CHECK(raw.find("<AppendedData encoding=\"raw\">") != std::string::npos);

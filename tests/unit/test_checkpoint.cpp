@@ -9,6 +9,7 @@
 #include "core/scene/scene.hpp"
 #include "core/solver/step.hpp"
 #include "tests/support/temp_folder.hpp"
+#include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>
@@ -21,13 +22,13 @@
 #include <fstream>
 #include <limits>
 #include <regex>
-#include <sstream>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
 #include <vector>
 
 using namespace fesph;
+using fesph::testing::slurp;
 namespace fs = std::filesystem;
 
 namespace {
@@ -102,12 +103,6 @@ int activeTies(const Model& m) {
   return n;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 int shell(const std::string& cmd) {
   const int status = std::system(cmd.c_str());
