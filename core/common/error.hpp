@@ -14,8 +14,10 @@ class InputError : public std::runtime_error {
  public:
   InputError(std::string file, int line, int column, const std::string& what)
       : std::runtime_error(format(file, line, column, what)),
-        file_(std::move(file)), line_(line), column_(column) {}
+        file_(std::move(file)), message_(what), line_(line), column_(column) {}
   const std::string& file() const { return file_; }
+  /// What was wrong, without the location.
+  const std::string& message() const { return message_; }
   int line() const { return line_; }
   int column() const { return column_; }
 
@@ -26,7 +28,7 @@ class InputError : public std::runtime_error {
     if (line > 0 && col > 0) loc += ":" + std::to_string(col);
     return loc + ": error: " + w;
   }
-  std::string file_;
+  std::string file_, message_;
   int line_ = 0, column_ = 0;
 };
 

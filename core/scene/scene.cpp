@@ -421,42 +421,14 @@ void readBoundary(const toml::table& t, const std::string& file, Scene& sc,
   }
 }
 
-}  // namespace
-
-Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
-                const std::string& material_library) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, 0, "cannot open scene file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return loadSceneText(ss.str(), path, overrides, material_library);
-}
-
-Scene loadSceneText(const std::string& text, const std::string& path,
-                    const std::vector<std::string>& overrides,
-                    const std::string& material_library) {
-  Scene sc;
-  sc.path = path;
-  sc.source = text;
-  sc.overrides = overrides;
-  toml::table root = parseText(sc.source, path);
-  const std::string& file = path;
-  for (const std::string& o : overrides) applyOverride(root, o);
-  // The resolution preset first, then the --set overrides again so that they win over it.
-  sc.resolution = applyResolution(root, file);
-  if (sc.resolution != "default")
-    for (const std::string& o : overrides) applyOverride(root, o);
-  // The scene as it runs: overrides and preset applied, every number to round-trip precision.
-  std::ostringstream effective;
-  effective << "# fesph: the scene " << path << " as run (resolution " << sc.resolution;
-  for (const std::string& o : overrides) effective << "; --set " << o;
-  effective << ")\n" << root << "\n";
-  sc.text = effective.str();
+// Every table of the scene, overrides and preset applied, into `sc`.
+void readSceneTables(const toml::table& root, const std::string& file,
+                     const std::string& material_library, Scene& sc) {
   allowKeys(root, file,
             {"title", "resolution", "resolutions", "simulation", "output", "contact",
              "conversion", "sph", "materials", "bodies", "boundary", "reference"},
             "the scene");
-  sc.title = string(root, "title", file, fs::path(path).stem().string());
+  sc.title = string(root, "title", file, fs::path(file).stem().string());
   readSimulation(*table(root, "simulation", file, true), file, sc);
   readOutput(table(root, "output", file), file, sc);
   readContact(table(root, "contact", file), file, sc);
@@ -464,8 +436,7 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   readSph(table(root, "sph", file), file, sc);
 
   const std::string lib_path =
-      material_library.empty() ? findMaterialLibrary(path)
-                               : material_library;
+      material_library.empty() ? findMaterialLibrary(file) : material_library;
   const MaterialLibrary lib = MaterialLibrary::load(lib_path);
   sc.material_library = lib_path;
   const toml::table* overrides_tbl = table(root, "materials", file);
@@ -504,6 +475,53 @@ Scene loadSceneText(const std::string& text, const std::string& path,
 
   for (const toml::table* bt : tables(root, "boundary", file)) readBoundary(*bt, file, sc, names);
   readReference(table(root, "reference", file), file, sc);
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
+                const std::string& material_library) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, 0, "cannot open scene file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return loadSceneText(ss.str(), path, overrides, material_library);
+}
+
+Scene loadSceneText(const std::string& text, const std::string& path,
+                    const std::vector<std::string>& overrides,
+                    const std::string& material_library) {
+  Scene sc;
+  sc.path = path;
+  sc.source = text;
+  sc.overrides = overrides;
+  toml::table root = parseText(sc.source, path);
+  const std::string& file = path;
+  for (const std::string& o : overrides) applyOverride(root, o);
+  // The resolution preset first, then the --set overrides again so that they win over it.
+  sc.resolution = applyResolution(root, file);
+  if (sc.resolution != "default")
+    for (const std::string& o : overrides) applyOverride(root, o);
+  // The scene as it runs: overrides and preset applied, every number to round-trip precision.
+  std::ostringstream effective;
+  effective << "# fesph: the scene " << path << " as run (resolution " << sc.resolution;
+  for (const std::string& o : overrides) effective << "; --set " << o;
+  effective << ")\n" << root << "\n";
+  sc.text = effective.str();
+  try {
+    readSceneTables(root, file, material_library, sc);
+  } catch (const InputError& e) {
+    // A value from --set has no line in the file: name the --set it came from.
+    if (e.line() > 0 || e.file() != file) throw;
+    std::string from;
+    for (const std::string& o : overrides) {
+      const std::string key = o.substr(0, o.find('='));
+      const std::string last = key.substr(key.rfind('.') + 1);
+      if (e.message().find("'" + last + "'") != std::string::npos) from += " --set " + o;
+    }
+    if (from.empty()) throw;
+    throw InputError(file, 0, 0, e.message() + " (given by" + from + ")");
+  }
   return sc;
 }
 

@@ -228,6 +228,16 @@ TEST_CASE("scene overrides from the command line are checked like the file", "[u
   REQUIRE(sc.bodies[0].velocity.z() == -5);
   REQUIRE_THROWS_AS(loadScene(path, {"simulation.end_tme=3e-6"}, library()), InputError);
   REQUIRE_THROWS_AS(loadScene(path, {"bodies.4.velocity=[0,0,-5]"}, library()), InputError);
+  // A bad value from --set has no line in the file: the error names the --set instead.
+  try {
+    loadScene(path, {"simulation.end_time=3e-6", "bodies.bar.shape.length=-1"}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    REQUIRE(e.line() == 0);
+    REQUIRE(std::string(e.what()).find("(given by --set bodies.bar.shape.length=-1)") !=
+            std::string::npos);
+  }
 }
 
 TEST_CASE("the command line end time keeps its precision", "[unit][scene]") {
