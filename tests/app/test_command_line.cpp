@@ -2,14 +2,12 @@
 // `fesph run` and `fesph render` through the binary: a scene named from its own folder,
 // command-line values that say what was expected when they are wrong, a restart that refuses
 // changes it could not make, and a failed run's last state.
+#include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-
-#include <cstdio>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -22,20 +20,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = 0;
-  std::string out;  ///< stdout and stderr
-};
+using Result = fesph::testing::CommandResult;
 
+// fesph with `args`, run in `dir`; its stdout and stderr.
 Result command(const std::string& args, const fs::path& dir) {
-  const std::string cmd =
-      "cd '" + dir.string() + "' && " + std::string(FESPH_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
-  r.code = WEXITSTATUS(pclose(p));
-  return r;
+  return fesph::testing::runCommand("cd '" + dir.string() + "' && " + std::string(FESPH_BINARY) +
+                                    " " + args + " 2>&1");
 }
 
 bool has(const std::string& text, const std::string& what) {

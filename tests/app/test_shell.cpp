@@ -4,6 +4,7 @@
 // export, errors), and an interactive session on a pseudo-terminal (tab completion, history,
 // Ctrl-C pausing a run without losing its state).
 #include "core/io/checkpoint.hpp"
+#include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/text.hpp"
 
@@ -17,7 +18,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -32,22 +32,13 @@ namespace {
 
 const std::string kScene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
 
-struct Result {
-  int code = 0;
-  std::string out;  ///< stdout and stderr
-};
+using Result = fesph::testing::CommandResult;
 
 Result shell(const std::string& args, const std::string& script, const fs::path& dir) {
   const fs::path script_file = dir / "steps.txt";
   std::ofstream(script_file) << script;
-  const std::string cmd = std::string(FESPH_BINARY) + " shell " + args + " < " +
-                          script_file.string() + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
-  r.code = WEXITSTATUS(pclose(p));
-  return r;
+  return fesph::testing::runCommand(std::string(FESPH_BINARY) + " shell " + args + " < " +
+                                    script_file.string() + " 2>&1");
 }
 
 /// The line of `text` that starts with `prefix` (after blanks); empty if none.
@@ -234,11 +225,9 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
     const std::string cmd = std::string(FESPH_BINARY) + " run " + kScene + " --out " +
                             (dir.path / "plain").string() +
                             " --set simulation.end_time=3e-6 --set output.interval=1e-6 --quiet --no-images";
-    std::string plain;
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (std::fgets(buf, sizeof buf, p)) plain += buf;
-    REQUIRE(WEXITSTATUS(pclose(p)) == 0);
+    const Result run = fesph::testing::runCommand(cmd);
+    REQUIRE(run.code == 0);
+    const std::string& plain = run.out;
     const std::string v = lineWith(plain, "projectile 'projectile'  mean velocity");
     REQUIRE(!v.empty());
     CHECK(r.out.find(v) != std::string::npos);

@@ -9,6 +9,7 @@
 #include "core/mesh/structured_box.hpp"
 #include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
+#include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/text.hpp"
 
@@ -21,7 +22,6 @@
 #include <vtkPNGWriter.h>
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <random>
 #include <regex>
@@ -92,19 +92,10 @@ GrayImage photograph(Eigen::Vector2d centre, double hx, double hy) {
   return photo;
 }
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = fesph::testing::CommandResult;
 
 Result runFesph(const std::string& args) {
-  const std::string cmd = std::string(FESPH_BINARY) + " " + args + " 2>&1";
-  Result r{0, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
-  r.code = WEXITSTATUS(pclose(p));
-  return r;
+  return fesph::testing::runCommand(std::string(FESPH_BINARY) + " " + args + " 2>&1");
 }
 
 double jsonNumber(const std::string& json, const std::string& key) {
