@@ -10,15 +10,14 @@
 
 namespace fesph {
 
-enum class Trigger { None, PlasticStrain, Damage, Safety };
-
 /// Why live element e should erode or convert now (None: it stays). Uses the state after the
 /// last material update: eps_p, damage, V/V0 and the smallest altitude (the geometric part of
 /// the stable step) against its first value.
 Trigger elementTrigger(const Model& model, std::size_t e);
 
-/// Every live element whose trigger fires now, ascending, with its trigger. The triggers are
-/// evaluated in parallel (each reads only its own element), the list is in element order.
+/// Every live element whose trigger fires now, ascending, with its trigger: the verdicts the
+/// last step's element pass left (Elements::trigger), or where there are none, evaluated here
+/// in parallel (each reads only its own element).
 std::vector<std::pair<std::size_t, Trigger>> triggeredElements(const Model& model);
 
 /// Count a conversion or erosion under its trigger (plastic strain is the rest).

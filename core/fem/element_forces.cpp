@@ -4,6 +4,7 @@
 #include "core/common/error.hpp"
 #include "core/common/ordered_sum.hpp"
 #include "core/conversion/convert.hpp"
+#include "core/conversion/triggers.hpp"
 #include "core/fem/tet4.hpp"
 #include "core/mesh/mesh.hpp"
 
@@ -222,14 +223,19 @@ void computeElementForces(Model& model, double dt_last) {
     }
   }
 
-  // Pass C: volumetric response, energy, corner forces.
+  // Pass C: volumetric response, energy, corner forces; and the conversion triggers, whose
+  // inputs are final now and in cache (read at the next step's start: triggers.hpp).
+  const bool triggers = model.controls.conversion.mode != ConversionMode::None;
+  if (triggers) el.trigger.resize(ne, Trigger::None);
   const std::array<double, 2> c_sums =
       orderedSums<2>(ne, [&](std::size_t e, std::array<double, 2>& sum) {
         if (el.status[e] != ElemStatus::Live) return;
         double q_work = 0;
         sum[0] += volumetricResponseAndForces(model, e, anp, q_work);
         sum[1] += q_work;
+        if (triggers) el.trigger[e] = elementTrigger(model, e);
       });
+  if (triggers) el.trigger_step = model.step;
   // Gather the corner forces per node in a fixed order: no atomics, same result for any
   // thread count (LULESH's scheme).
 #pragma omp parallel for schedule(static)

@@ -83,7 +83,7 @@ constexpr std::size_t kVec = sizeof(std::vector<int>);
   static_assert(sizeof(T) == (size), #T " changed: store the new field in the checkpoint " \
                                         "(transfer() in core/io/checkpoint.cpp)")
 FESPH_CHECKPOINT_FIELDS(Nodes, 7 * kVec);
-FESPH_CHECKPOINT_FIELDS(Elements, 14 * kVec + kVec /* scratch */);
+FESPH_CHECKPOINT_FIELDS(Elements, 14 * kVec + 2 * kVec + sizeof(long) /* scratch */);
 FESPH_CHECKPOINT_FIELDS(Particles, 15 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +

@@ -20,6 +20,9 @@ namespace fesph {
 
 enum class ElemStatus : std::uint8_t { Live = 0, Converted = 1, Eroded = 2 };
 
+/// Why an element erodes or converts (core/conversion/triggers.hpp); None: it stays.
+enum class Trigger : std::uint8_t { None, PlasticStrain, Damage, Safety };
+
 /// Nodes of the tetrahedral meshes of all bodies.
 struct Nodes {
   std::vector<Vec3> x;            ///< current position, m
@@ -50,6 +53,12 @@ struct Elements {
   /// Scratch, not in the checkpoint: each element's flow stress factors from its last step,
   /// sized and keyed by the element pass (material.hpp).
   std::vector<YieldCache> yield_cache;
+  /// Scratch, not in the checkpoint: each element's trigger as the element pass of step
+  /// `trigger_step` evaluated it, where the element's state was in cache. Nothing changes an
+  /// element between that pass and the next step's conversions, which read these
+  /// (triggeredElements) instead of every element's state again.
+  std::vector<Trigger> trigger;
+  long trigger_step = -1;
   std::size_t size() const { return conn.size(); }
 };
 

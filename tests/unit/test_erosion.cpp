@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Element erosion (the plain-FEM baseline): failed elements are deleted, their mass and
 // energy are booked as lost, and the budget still closes.
+#include "core/conversion/triggers.hpp"
 #include "core/material/library.hpp"
 #include "core/solver/step.hpp"
 #include "tests/support/models.hpp"
@@ -41,4 +42,40 @@ TEST_CASE("erosion deletes failed elements and books their mass and energy",
   // no eroded element contributes force: all retired nodes have zero mass and stay put
   for (std::size_t a = 0; a < m.nodes.size(); ++a)
     if (m.nodes.m[a] == 0) REQUIRE(m.nodes.f[a].norm() == 0);
+}
+
+TEST_CASE("the element pass's trigger verdicts are the triggers evaluated afresh",
+          "[unit][erosion][conversion]") {
+  // The conversions at a step's start read the verdicts the last step's element pass left
+  // (Elements::trigger) instead of every element's state: exact only if nothing changes an
+  // element between the two. Checked at every step of a Taylor impact that erodes and
+  // converts, against the evaluation from the state (taken when no verdict is current).
+  const MaterialLibrary lib = MaterialLibrary::load(std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  for (const ConversionMode mode : {ConversionMode::Erosion, ConversionMode::Sph}) {
+    Model m = fesph::testing::boxModel(lib.get("copper_taylor_benchmark"),
+                                       Vec3(4e-3, 4e-3, 16e-3), 4, 4, 16, Vec3(0, 0, -227));
+    m.walls.push_back(RigidWall{});
+    m.controls.conversion.mode = mode;
+    m.controls.conversion.plastic_strain = 0.3;
+    long steps_with_verdicts = 0, fired = 0;
+    while (m.time < 15e-6) {
+      const auto kept = triggeredElements(m);
+      if (m.step > 0) {
+        REQUIRE(m.elems.trigger_step == m.step - 1);  // the kept verdicts were read
+        const long kept_step = m.elems.trigger_step;
+        m.elems.trigger_step = -1;
+        const auto fresh = triggeredElements(m);
+        m.elems.trigger_step = kept_step;
+        CAPTURE(m.step);
+        REQUIRE(kept == fresh);
+        ++steps_with_verdicts;
+        fired += static_cast<long>(kept.size());
+      }
+      step(m, 15e-6);
+    }
+    INFO("mode " << static_cast<int>(mode) << ": " << steps_with_verdicts << " steps, " << fired
+                 << " triggers");
+    REQUIRE(steps_with_verdicts > 100);
+    REQUIRE(fired > 10);
+  }
 }
