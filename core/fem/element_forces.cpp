@@ -109,11 +109,17 @@ void viscosityAndStableStep(Model& model, std::size_t e, const EosAtDensity& avg
   const double trD = el.div_v[e], len = el.len[e];
   const double c_wave = std::sqrt((1 - own_fraction) * avg.wave_speed_sq +
                                   own_fraction * own.wave_speed_sq);
-  el.q[e] = trD < 0 ? el.rho[e] * len * (ctl.bulk_quadratic * len * trD * trD -
-                                         ctl.bulk_linear * c_wave * trD)
-                    : 0.0;
-  const double Q = trD < 0 ? ctl.bulk_linear * c_wave + ctl.bulk_quadratic * len * (-trD) : 0.0;
-  el.dt[e] = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
+  if (trD < 0) {
+    el.q[e] = el.rho[e] * len * (ctl.bulk_quadratic * len * trD * trD -
+                                 ctl.bulk_linear * c_wave * trD);
+    const double Q = ctl.bulk_linear * c_wave + ctl.bulk_quadratic * len * (-trD);
+    el.dt[e] = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
+  } else {
+    // Q = 0: len / sqrt(c^2) is len / c bit for bit (in binary floating point, rounding to
+    // nearest, the root of a number's rounded square is that number), one root fewer.
+    el.q[e] = 0.0;
+    el.dt[e] = len / c_wave;
+  }
 }
 
 // Pass C for live element e: volumetric deformation (own, or ANP blended with its own), bulk

@@ -140,3 +140,38 @@ TEST_CASE("undamped elastic vibration conserves total energy", "[unit][fem][cons
   REQUIRE(max_internal > 0.05 * m.energy.initial);  // energy really moves between the terms
   REQUIRE(max_err < 0.005);
 }
+
+TEST_CASE("an element's stable step is l / (Q + sqrt(Q^2 + c^2)), Q from the bulk viscosity",
+          "[unit][fem]") {
+  // Reference: the tet's critical step with bulk viscosity (Flanagan & Belytschko 1981; the
+  // LS-DYNA theory manual's element time step): l the smallest altitude, c the longitudinal
+  // wave speed sqrt((K + 4G/3) / rho) of the linear EOS, Q = C1 c + C2 l |tr D| in compression
+  // and 0 otherwise (then l / c). Each element's own formula, to round-off (1e-14).
+  const Material mat = elasticMaterial();
+  const double dt = 1e-7;
+  for (const double rate : {0.0, 2e4, -2e4}) {  // 1/s per axis: rest, expansion, compression
+    CAPTURE(rate);
+    Model m = boxModel(mat, Vec3(2e-3, 3e-3, 4e-3), 2, 3, 4);
+    for (std::size_t a = 0; a < m.nodes.size(); ++a) {
+      m.nodes.v[a] = rate * m.nodes.x0[a];
+      m.nodes.x[a] = m.nodes.x0[a] + dt * m.nodes.v[a];
+    }
+    computeElementForces(m, dt);
+    for (std::size_t e = 0; e < m.elems.size(); ++e) {
+      const auto& c = m.elems.conn[e];
+      const Vec3 &x0 = m.nodes.x[c[0]], &x1 = m.nodes.x[c[1]], &x2 = m.nodes.x[c[2]],
+                 &x3 = m.nodes.x[c[3]];
+      const double len = smallestAltitude(x0, x1, x2, x3, tetVolume(x0, x1, x2, x3));
+      const double rho = mat.rho0 * m.elems.V0[e] / m.elems.V[e];
+      const double c_wave = std::sqrt((mat.K + 4.0 * mat.G / 3.0) / rho);
+      // the rate at the midpoint configuration x0 + (dt/2) v, where the gradient of v = rate x0
+      // is rate / (1 + rate dt/2) per axis
+      const double trD = 3 * rate / (1 + 0.5 * rate * dt);
+      const double Q = trD < 0 ? m.controls.bulk_linear * c_wave +
+                                     m.controls.bulk_quadratic * len * -trD
+                               : 0.0;
+      REQUIRE(m.elems.dt[e] == Approx(len / (Q + std::sqrt(Q * Q + c_wave * c_wave))).epsilon(1e-14));
+      if (rate < 0) REQUIRE(m.elems.dt[e] < 0.99 * len / c_wave);  // the viscosity shortens it
+    }
+  }
+}
