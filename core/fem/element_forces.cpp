@@ -140,7 +140,7 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
   double own = 1.0;
   if (anp) {
     double J = 0;
-    for (int a = 0; a < 4; ++a) J += model.nodal_volume[c[a]] / model.nodal_volume0[c[a]];
+    for (int a = 0; a < 4; ++a) J += model.nodal_volume_ratio[c[a]];
     rho_vol = mat.rho0 / (0.25 * J);
     own = model.controls.anp_element_fraction;
   }
@@ -215,6 +215,7 @@ void computeElementForces(Model& model, double dt_last) {
   // Pass B: nodal volumes over live elements (average nodal pressure, Bonet & Burton 1998).
   const bool anp = model.controls.average_nodal_pressure;
   if (anp) {
+    model.nodal_volume_ratio.resize(nd.size());
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < nd.size(); ++a) {
       double vol = 0, vol0 = 0;
@@ -226,6 +227,7 @@ void computeElementForces(Model& model, double dt_last) {
       }
       model.nodal_volume[a] = vol;
       model.nodal_volume0[a] = vol0;
+      model.nodal_volume_ratio[a] = vol0 > 0 ? vol / vol0 : 0.0;  // 0: no live element
     }
   }
 

@@ -102,7 +102,7 @@ FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(dou
 FESPH_CHECKPOINT_FIELDS(Model, sizeof(Nodes) + sizeof(Elements) + sizeof(Particles) +
                                    4 * kVec + sizeof(Surfaces) + sizeof(SphWorkspace) +
                                    sizeof(SolverControls) + sizeof(EnergyBudget) +
-                                   sizeof(ConversionStats) + 7 * kVec + 2 * sizeof(double) +
+                                   sizeof(ConversionStats) + 7 * kVec + kVec /* scratch */ + 2 * sizeof(double) +
                                    sizeof(long) + sizeof(std::string) + sizeof(PhaseTimes));
 #undef FESPH_CHECKPOINT_FIELDS
 

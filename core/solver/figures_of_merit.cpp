@@ -27,11 +27,12 @@ Footprint modelFootprint(const Model& m) {
   const Elements& el = m.elems;
   const Surfaces& s = m.surfaces;
   f.elements = bytes(el.conn, el.body, el.material, el.V0, el.V, el.dV, el.rho, el.q) +
-               bytes(el.div_v, el.dt, el.len, el.len0, el.state, el.status, el.yield_cache) +
+               bytes(el.div_v, el.dt, el.len, el.len0, el.state, el.status, el.yield_cache, el.trigger) +
                bytes(m.corner_force, m.node_corners, s.table, s.elem_faces);
   const Nodes& nd = m.nodes;
   f.nodes = bytes(nd.x, nd.x0, nd.v, nd.f, nd.m, nd.body, nd.fix, m.node_corner_offset) +
-            bytes(m.nodal_volume, m.nodal_volume0, m.v_node_free, s.node_face_count, s.node_slot);
+            bytes(m.nodal_volume, m.nodal_volume0, m.nodal_volume_ratio, m.v_node_free) +
+            bytes(s.node_face_count, s.node_slot);
   const ContactCandidates& c = s.candidates;
   const ContactScratch& w = s.scratch;
   f.contact = bytes(s.exterior, s.slave_nodes, c.slaves, c.body_begin, c.offset, c.faces) +
