@@ -33,6 +33,12 @@ std::size_t liveElements(const Model& model) {
          static_cast<std::size_t>(model.conversion.eroded + model.conversion.converted);
 }
 
+void makeFolder(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw RunError("cannot create output folder " + dir + ": " + ec.message());
+}
+
 // The end time is taken as reached within a relative 1e-12 (sums of steps round).
 bool reached(double time, double target) { return time >= target * (1 - 1e-12); }
 
@@ -47,11 +53,21 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
   opened_ = std::chrono::steady_clock::now();
   scene_ = loadScene(scene_path, overrides, material_library);
   if (!out_folder.empty()) scene_.output.folder = out_folder;
+  // The folder before the meshing, which can take minutes: a bad --out is said at once. A
+  // folder made here is taken away again if the meshing fails.
+  const bool existed = fs::exists(folder());
+  makeFolder(folder());
   if (log) {
     *log << "fesph " << FESPH_VERSION << ": scene " << scene_path << " (" << scene_.title
          << ")\nMeshing " << scene_.bodies.size() << " bodies" << std::endl;
   }
-  model_ = buildModel(scene_, log);
+  try {
+    model_ = buildModel(scene_, log);
+  } catch (...) {
+    std::error_code ec;
+    if (!existed) fs::remove(folder(), ec);  // only if still empty
+    throw;
+  }
   crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
 
   openWriters(false, RunProgress{});
@@ -130,9 +146,7 @@ void RunSession::refuseToCutLaterCheckpoints(const std::string& checkpoint) cons
 
 void RunSession::openWriters(bool resume, const RunProgress& saved) {
   const std::string& dir = folder();
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw RunError("cannot create output folder " + dir + ": " + ec.message());
+  makeFolder(dir);
   {
     std::ofstream(dir + "/scene.toml") << scene_.text;
     std::ofstream(dir + "/scene_source.toml") << scene_.source;

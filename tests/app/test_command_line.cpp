@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // `fesph run` and `fesph render` through the binary: a scene named from its own folder,
-// command-line values that say what was expected when they are wrong, a restart that refuses
-// changes it could not make, and a failed run's last state.
+// command-line values that say what was expected when they are wrong, an output folder that
+// cannot be made, a restart that refuses changes it could not make, and a failed run's last
+// state.
 #include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/text.hpp"
@@ -9,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -73,6 +75,29 @@ TEST_CASE("fesph run and render: a scene named from its own folder; times given 
   INFO(negative.out);
   CHECK(negative.code == 2);
   CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
+}
+
+TEST_CASE("fesph run: an output folder that cannot be made is said before the meshing", "[app]") {
+  const TempFolder dir("output_folder");
+  fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml", dir.path / "scene.toml");
+  std::ofstream(dir.path / "taken") << "a file, not a folder\n";
+  const Result file = command("run scene.toml --end-time 1e-6 --out taken --no-images", dir.path);
+  INFO(file.out);
+  CHECK(file.code == 2);
+  CHECK(has(file.out, "cannot create output folder taken: Not a directory"));
+  CHECK(!has(file.out, "Meshing"));
+
+  // A folder made for a run whose model cannot be built (the projectile placed 1 mm into the
+  // plate) is taken away again; one that was there is left.
+  const std::string overlap = "run scene.toml --set 'bodies.0.position=[0,0,-1e-3]' --no-images ";
+  const Result fresh = command(overlap + "--out new", dir.path);
+  INFO(fresh.out);
+  CHECK(fresh.code == 2);
+  CHECK(has(fresh.out, "overlap at the start"));
+  CHECK(!fs::exists(dir.path / "new"));
+  fs::create_directory(dir.path / "old");
+  CHECK(command(overlap + "--out old", dir.path).code == 2);
+  CHECK(fs::is_directory(dir.path / "old"));
 }
 
 TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]") {
