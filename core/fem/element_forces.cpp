@@ -94,8 +94,6 @@ bool updateKinematicsAndTrial(Model& model, std::size_t e, double dt, PassAScrat
   el.rho[e] = mass / vol;
 
   el.div_v[e] = D.trace();
-  el.len[e] = smallestAltitude(x[0], x[1], x[2], x[3], vol);
-  if (el.len0[e] == 0) el.len0[e] = el.len[e];
   return true;
 }
 
@@ -122,8 +120,8 @@ void viscosityAndStableStep(Model& model, std::size_t e, const EosAtDensity& avg
   }
 }
 
-// Pass C for live element e: volumetric deformation (own, or ANP blended with its own), bulk
-// viscosity and stable step, energy and pressure, corner forces. Returns the internal energy
+// Pass C for live element e: geometry and length at x^n, volumetric deformation (own, or ANP
+// blended with its own), bulk viscosity and stable step, energy and pressure, corner forces. Returns the internal energy
 // (J); `q_work` receives the bulk viscosity work over the interval (J).
 double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double& q_work) {
   Elements& el = model.elems;
@@ -144,6 +142,10 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
     rho_vol = mat.rho0 / (0.25 * J);
     own = model.controls.anp_element_fraction;
   }
+  // The geometry at x^n for the corner forces, and with it the element's length for its step.
+  const TetGeometry g =
+      tetGeometry(nd.x[c[0]], nd.x[c[1]], nd.x[c[2]], nd.x[c[3]], &el.len[e]);
+  if (el.len0[e] == 0) el.len0[e] = el.len[e];
   const EosAtDensity eos_avg = eosAtDensity(mat, rho_vol);
   const EosAtDensity eos_own = anp ? eosAtDensity(mat, el.rho[e]) : eos_avg;  // same density
   viscosityAndStableStep(model, e, eos_avg, eos_own, own);
@@ -163,7 +165,6 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
   st.p = p_new;
   q_work = -q * dV;
 
-  const TetGeometry g = tetGeometry(nd.x[c[0]], nd.x[c[1]], nd.x[c[2]], nd.x[c[3]]);
   Mat3 sigma = st.s.matrix();
   sigma.diagonal().array() -= (st.p + q);
   for (int a = 0; a < 4; ++a) model.corner_force[e][a] = -g.volume * (sigma * g.grad[a]);

@@ -19,7 +19,11 @@ struct TetGeometry {
 /// Volume and shape-function gradients of the tet (a, b, c, d). With J = [b-a, c-a, d-a],
 /// the rows of J^-1 are the gradients of N_b, N_c, N_d (cross products over det J), and the
 /// gradients sum to zero because the shape functions sum to one.
-inline TetGeometry tetGeometry(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+/// `altitude` (if not null) receives the smallest altitude 3V / (largest face area), the
+/// length that sets the tet's stable step. The cross products are twice the areas of the faces
+/// at a, so only the face opposite a takes one of its own.
+inline TetGeometry tetGeometry(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                               double* altitude = nullptr) {
   const Vec3 e1 = b - a, e2 = c - a, e3 = d - a;
   const Vec3 c23 = e2.cross(e3), c31 = e3.cross(e1), c12 = e1.cross(e2);
   const double det = e1.dot(c23);
@@ -30,6 +34,14 @@ inline TetGeometry tetGeometry(const Vec3& a, const Vec3& b, const Vec3& c, cons
   g.grad[2] = c31 * inv;
   g.grad[3] = c12 * inv;
   g.grad[0] = -(g.grad[1] + g.grad[2] + g.grad[3]);
+  if (altitude) {
+    // sqrt is monotonic and correctly rounded: the root of the largest square is the largest
+    // norm, bit for bit, for one sqrt instead of four
+    const double a0 = (c - b).cross(d - b).squaredNorm();
+    const double largest = std::max(std::max(a0, c23.squaredNorm()),
+                                    std::max(c31.squaredNorm(), c12.squaredNorm()));
+    *altitude = 3.0 * std::abs(g.volume) / (0.5 * std::sqrt(largest));
+  }
   return g;
 }
 
@@ -38,19 +50,6 @@ inline Mat3 velocityGradient(const std::array<Vec3, 4>& v, const std::array<Vec3
   Mat3 L = Mat3::Zero();
   for (int a = 0; a < 4; ++a) L.noalias() += v[a] * grad[a].transpose();
   return L;
-}
-
-/// Smallest altitude 3V / (largest face area): the length that sets the tet's stable step.
-inline double smallestAltitude(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
-                               double volume) {
-  // sqrt is monotonic and correctly rounded: the root of the largest square is the largest
-  // norm, bit for bit, for one sqrt instead of four
-  const double a0 = (c - b).cross(d - b).squaredNorm();
-  const double a1 = (c - a).cross(d - a).squaredNorm();
-  const double a2 = (b - a).cross(d - a).squaredNorm();
-  const double a3 = (b - a).cross(c - a).squaredNorm();
-  const double amax = 0.5 * std::sqrt(std::max(std::max(a0, a1), std::max(a2, a3)));
-  return 3.0 * std::abs(volume) / amax;
 }
 
 }  // namespace fesph

@@ -161,7 +161,11 @@ TEST_CASE("an element's stable step is l / (Q + sqrt(Q^2 + c^2)), Q from the bul
       const auto& c = m.elems.conn[e];
       const Vec3 &x0 = m.nodes.x[c[0]], &x1 = m.nodes.x[c[1]], &x2 = m.nodes.x[c[2]],
                  &x3 = m.nodes.x[c[3]];
-      const double len = smallestAltitude(x0, x1, x2, x3, tetVolume(x0, x1, x2, x3));
+      const double area = 0.5 * std::max(std::max((x2 - x1).cross(x3 - x1).norm(),
+                                                  (x2 - x0).cross(x3 - x0).norm()),
+                                         std::max((x1 - x0).cross(x3 - x0).norm(),
+                                                  (x1 - x0).cross(x2 - x0).norm()));
+      const double len = 3 * tetVolume(x0, x1, x2, x3) / area;  // the smallest altitude
       const double rho = mat.rho0 * m.elems.V0[e] / m.elems.V[e];
       const double c_wave = std::sqrt((mat.K + 4.0 * mat.G / 3.0) / rho);
       // the rate at the midpoint configuration x0 + (dt/2) v, where the gradient of v = rate x0
