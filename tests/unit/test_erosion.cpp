@@ -79,3 +79,53 @@ TEST_CASE("the element pass's trigger verdicts are the triggers evaluated afresh
     REQUIRE(fired > 10);
   }
 }
+
+TEST_CASE("an element's trigger: plastic strain, full damage, and the safety criteria",
+          "[unit][erosion][conversion]") {
+  // Reference: the criteria as the scene documents them (README, [conversion]): eps_p at the
+  // threshold (the paper's), damage 1, V/V0 outside [min_volume_ratio, max_volume_ratio], and
+  // the smallest altitude under min_dt_ratio of its first; each exactly at its threshold, and
+  // just inside it.
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(1e-3, 1e-3, 1e-3),
+                                     1, 1, 1);
+  const ConversionControls& c = m.controls.conversion;
+  Elements& el = m.elems;
+  const auto fresh = [&] {
+    for (std::size_t e = 0; e < el.size(); ++e) {
+      el.state[e] = PointState{};
+      el.V[e] = el.V0[e];
+      el.len0[e] = 1e-4;
+      el.len[e] = 1e-4;
+    }
+  };
+  fresh();
+  REQUIRE(elementTrigger(m, 0) == Trigger::None);
+  el.state[0].eps_p = std::nextafter(c.plastic_strain, 0.0);
+  CHECK(elementTrigger(m, 0) == Trigger::None);
+  el.state[0].eps_p = c.plastic_strain;
+  CHECK(elementTrigger(m, 0) == Trigger::PlasticStrain);
+  el.state[0].damage = 1.0;  // the plastic strain is named first
+  CHECK(elementTrigger(m, 0) == Trigger::PlasticStrain);
+  fresh();
+  el.state[0].damage = std::nextafter(1.0, 0.0);
+  CHECK(elementTrigger(m, 0) == Trigger::None);
+  el.state[0].damage = 1.0;
+  CHECK(elementTrigger(m, 0) == Trigger::Damage);
+  fresh();
+  el.V[0] = 0.5 * c.min_volume_ratio * el.V0[0];
+  CHECK(elementTrigger(m, 0) == Trigger::Safety);
+  el.V[0] = 2.0 * c.min_volume_ratio * el.V0[0];
+  CHECK(elementTrigger(m, 0) == Trigger::None);
+  el.V[0] = 2.0 * c.max_volume_ratio * el.V0[0];
+  CHECK(elementTrigger(m, 0) == Trigger::Safety);
+  el.V[0] = 0.5 * c.max_volume_ratio * el.V0[0];
+  CHECK(elementTrigger(m, 0) == Trigger::None);
+  fresh();
+  el.len[0] = 0.5 * c.min_dt_ratio * el.len0[0];
+  CHECK(elementTrigger(m, 0) == Trigger::Safety);
+  el.len[0] = 2.0 * c.min_dt_ratio * el.len0[0];
+  CHECK(elementTrigger(m, 0) == Trigger::None);
+  el.len0[0] = 0;  // no first length yet: the criterion waits for it
+  el.len[0] = 1e-12;
+  CHECK(elementTrigger(m, 0) == Trigger::None);
+}
