@@ -146,8 +146,10 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
   const TetGeometry g =
       tetGeometry(nd.x[c[0]], nd.x[c[1]], nd.x[c[2]], nd.x[c[3]], &el.len[e]);
   if (el.len0[e] == 0) el.len0[e] = el.len[e];
-  const EosAtDensity eos_avg = eosAtDensity(mat, rho_vol);
-  const EosAtDensity eos_own = anp ? eosAtDensity(mat, el.rho[e]) : eos_avg;  // same density
+  // the EOS at both densities at once (without ANP the same density twice)
+  const std::array<EosAtDensity, 2> eos = eosAtDensities(mat, rho_vol, el.rho[e]);
+  const EosAtDensity& eos_avg = eos[0];
+  const EosAtDensity& eos_own = eos[1];
   viscosityAndStableStep(model, e, eos_avg, eos_own, own);
   // Energy over the interval, trapezoidal in pressure: one predictor, one corrector,
   // since the Mie-Grueneisen pressure depends on the energy it updates.

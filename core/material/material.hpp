@@ -7,6 +7,7 @@
 #include "core/common/types.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -115,6 +116,9 @@ struct EosAtDensity {
   }
 };
 EosAtDensity eosAtDensity(const Material& mat, double rho);
+/// eosAtDensity at two densities at once, each with its bits: the two share the divider (an
+/// element's own density and its nodes' average, ANP, take ten divisions one by one).
+std::array<EosAtDensity, 2> eosAtDensities(const Material& mat, double rho_a, double rho_b);
 
 /// The two costly factors of a point's quasi-static flow stress, kept from step to step: the
 /// thermal factor 1 - T*^m at temperature T and the hardening A + B eps_p^n at plastic strain

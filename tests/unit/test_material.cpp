@@ -372,6 +372,32 @@ TEST_CASE("equations of state against hand values", "[unit][material]") {
     CHECK(eosPressure(lin, 7830.0 * (1.0 + mu), 1e6) == Approx(lin.K * mu).margin(1e-14 * lin.K));
 }
 
+TEST_CASE("the EOS at two densities at once gives each density the bits it gets alone",
+          "[unit][material]") {
+  // Reference: eosAtDensity (checked against hand values above); the two-density form the
+  // element pass takes for ANP must give each lane exactly that, whichever branch each lane
+  // is on (compressed, expanded, at rho0, clamped beyond 1/s), for both EOS models.
+  const Material mg = steel4340();
+  Material lin = mg;
+  lin.eos = EosModel::Linear;
+  const double rho0 = mg.rho0;
+  const std::vector<double> rhos = {0.9 * rho0, rho0, 1.0001 * rho0, 1.1 * rho0, 5.0 * rho0};
+  const auto same = [](const EosAtDensity& a, const EosAtDensity& b) {
+    return a.branch == b.branch && a.p_ref == b.p_ref && a.e_ref == b.e_ref &&
+           a.wave_speed_sq == b.wave_speed_sq;
+  };
+  for (const Material* mat : {&mg, static_cast<const Material*>(&lin)})
+    for (double a : rhos)
+      for (double b : rhos) {
+        CAPTURE(mat->eos == EosModel::Linear, a, b);
+        const std::array<EosAtDensity, 2> both = eosAtDensities(*mat, a, b);
+        CHECK(same(both[0], eosAtDensity(*mat, a)));
+        CHECK(same(both[1], eosAtDensity(*mat, b)));
+        // and the pressure the element pass takes from it, at some energy
+        CHECK(both[1].pressure(*mat, 3e4, 0.0) == eosPressure(*mat, b, 3e4));
+      }
+}
+
 TEST_CASE("wave speed is a safe upper estimate", "[unit][material]") {
   const Material mat = steel4340();
   Material lin = mat;
