@@ -121,8 +121,9 @@ void viscosityAndStableStep(Model& model, std::size_t e, const EosAtDensity& avg
 }
 
 // Pass C for live element e: geometry and length at x^n, volumetric deformation (own, or ANP
-// blended with its own), bulk viscosity and stable step, energy and pressure, corner forces. Returns the internal energy
-// (J); `q_work` receives the bulk viscosity work over the interval (J).
+// blended with its own), bulk viscosity and stable step, energy and pressure, corner forces.
+// Returns the internal energy (J); `q_work` receives the bulk viscosity work over the
+// interval (J).
 double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double& q_work) {
   Elements& el = model.elems;
   const Nodes& nd = model.nodes;

@@ -76,7 +76,9 @@ std::array<EosAtDensity, 2> eosAtDensities(const Material& mat, double rho_a, do
   return at;
 }
 
-EosAtDensity eosAtDensity(const Material& mat, double rho) { return eosAtDensities(mat, rho, rho)[0]; }
+EosAtDensity eosAtDensity(const Material& mat, double rho) {
+  return eosAtDensities(mat, rho, rho)[0];
+}
 
 double eosPressure(const Material& mat, double rho, double e, double damage) {
   return eosAtDensity(mat, rho).pressure(mat, e, damage);

@@ -50,7 +50,8 @@ TEST_CASE("the element pass's trigger verdicts are the triggers evaluated afresh
   // (Elements::trigger) instead of every element's state: exact only if nothing changes an
   // element between the two. Checked at every step of a Taylor impact that erodes and
   // converts, against the evaluation from the state (taken when no verdict is current).
-  const MaterialLibrary lib = MaterialLibrary::load(std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  const MaterialLibrary lib =
+      MaterialLibrary::load(std::string(FESPH_SCENES_DIR) + "/materials.toml");
   for (const ConversionMode mode : {ConversionMode::Erosion, ConversionMode::Sph}) {
     Model m = fesph::testing::boxModel(lib.get("copper_taylor_benchmark"),
                                        Vec3(4e-3, 4e-3, 16e-3), 4, 4, 16, Vec3(0, 0, -227));

@@ -174,7 +174,8 @@ TEST_CASE("an element's stable step is l / (Q + sqrt(Q^2 + c^2)), Q from the bul
       const double Q = trD < 0 ? m.controls.bulk_linear * c_wave +
                                      m.controls.bulk_quadratic * len * -trD
                                : 0.0;
-      REQUIRE(m.elems.dt[e] == Approx(len / (Q + std::sqrt(Q * Q + c_wave * c_wave))).epsilon(1e-14));
+      const double expected = len / (Q + std::sqrt(Q * Q + c_wave * c_wave));
+      REQUIRE(m.elems.dt[e] == Approx(expected).epsilon(1e-14));
       if (rate < 0) REQUIRE(m.elems.dt[e] < 0.99 * len / c_wave);  // the viscosity shortens it
     }
   }
