@@ -229,8 +229,6 @@ void computeElementForces(Model& model, double dt_last) {
         vol += el.V[e];
         vol0 += el.V0[e];
       }
-      model.nodal_volume[a] = vol;
-      model.nodal_volume0[a] = vol0;
       model.nodal_volume_ratio[a] = vol0 > 0 ? vol / vol0 : 0.0;  // 0: no live element
     }
   }

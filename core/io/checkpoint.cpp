@@ -33,7 +33,9 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 6: the particles' renumbering: SphControls::order_interval and Particles::id.
 // 7: no pair_grad_prev (scratch of one step; older files hold it and the reader skips it).
 // 8: no neighbour_last_offset, neighbour_last_index, pair_grad_last (the same: skipped).
-constexpr std::int64_t kFormatVersion = 8;
+// 9: no nodal_volume, nodal_volume0 (read by nothing since the element pass takes each node's
+//    ratio in their place, before it reads it: skipped).
+constexpr std::int64_t kFormatVersion = 9;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -102,7 +104,8 @@ FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(dou
 FESPH_CHECKPOINT_FIELDS(Model, sizeof(Nodes) + sizeof(Elements) + sizeof(Particles) +
                                    4 * kVec + sizeof(Surfaces) + sizeof(SphWorkspace) +
                                    sizeof(SolverControls) + sizeof(EnergyBudget) +
-                                   sizeof(ConversionStats) + 7 * kVec + kVec /* scratch */ + 2 * sizeof(double) +
+                                   sizeof(ConversionStats) + 5 * kVec +
+                                   kVec /* scratch */ + 2 * sizeof(double) +
                                    sizeof(long) + sizeof(std::string) + sizeof(PhaseTimes));
 #undef FESPH_CHECKPOINT_FIELDS
 
@@ -464,8 +467,6 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
                 corner_force.size() * sizeof(corner_force[0]),
                 reinterpret_cast<char*>(m.corner_force.data()));
   }
-  ar.array("nodal_volume", m.nodal_volume);
-  ar.array("nodal_volume0", m.nodal_volume0);
   ar.array("v_node_free", m.v_node_free);
   ar.array("v_particle_free", m.v_particle_free);
   ar.leave();
@@ -530,8 +531,7 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
   const std::size_t nb = m.bodies.size(), nm = m.materials.size();
   const Nodes& nd = m.nodes;
   for (std::size_t n : {nd.x0.size(), nd.v.size(), nd.f.size(), nd.m.size(), nd.body.size(),
-                        nd.fix.size(), m.nodal_volume.size(), m.nodal_volume0.size(),
-                        m.v_node_free.size(), m.surfaces.node_face_count.size(),
+                        nd.fix.size(), m.v_node_free.size(), m.surfaces.node_face_count.size(),
                         m.surfaces.node_slot.size()})
     if (n != nn) fail("node arrays of different lengths");
   const Elements& el = m.elems;

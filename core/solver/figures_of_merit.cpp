@@ -31,8 +31,7 @@ Footprint modelFootprint(const Model& m) {
                bytes(m.corner_force, m.node_corners, s.table, s.elem_faces);
   const Nodes& nd = m.nodes;
   f.nodes = bytes(nd.x, nd.x0, nd.v, nd.f, nd.m, nd.body, nd.fix, m.node_corner_offset) +
-            bytes(m.nodal_volume, m.nodal_volume0, m.nodal_volume_ratio, m.v_node_free) +
-            bytes(s.node_face_count, s.node_slot);
+            bytes(m.nodal_volume_ratio, m.v_node_free, s.node_face_count, s.node_slot);
   const ContactCandidates& c = s.candidates;
   const ContactScratch& w = s.scratch;
   f.contact = bytes(s.exterior, s.slave_nodes, c.slaves, c.body_begin, c.offset, c.faces) +

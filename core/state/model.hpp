@@ -200,9 +200,8 @@ struct Model {
 
   // scratch arrays owned here so the step allocates nothing
   std::vector<std::array<Vec3, 4>> corner_force;  ///< per element, N
-  std::vector<double> nodal_volume, nodal_volume0;
-  /// nodal_volume / nodal_volume0, each node's once (not in the checkpoint): the element pass
-  /// reads it at every corner, where it took four divisions an element.
+  /// Each node's V / V0 over its live elements (ANP), taken once a node in the element pass
+  /// and read at every corner (not in the checkpoint: taken again before it is read).
   std::vector<double> nodal_volume_ratio;
   std::vector<Vec3> v_node_free, v_particle_free;  ///< velocities before the corrections
 

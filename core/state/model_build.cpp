@@ -92,8 +92,7 @@ void finaliseModel(Model& model) {
                            "' belongs to no tetrahedron");
 
   model.corner_force.assign(el.size(), {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-  model.nodal_volume.assign(nd.size(), 0.0);
-  model.nodal_volume0.assign(nd.size(), 0.0);
+  model.nodal_volume_ratio.assign(nd.size(), 0.0);
 
   buildSurfaces(model);
 

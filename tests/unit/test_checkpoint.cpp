@@ -241,18 +241,19 @@ TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit
   requireSameState(run.unbroken, continued);
 }
 
-TEST_CASE("checkpoints of formats 6 and 7 (with scratch SPH arrays) continue bit-identically",
+TEST_CASE("checkpoints of formats 6 to 8 (with scratch arrays) continue bit-identically",
           "[unit][checkpoint]") {
-  // Format 6 also stored the pair gradients in the previous configuration, and formats 2-7 the
-  // last step's neighbour list and pair gradients: scratch, which formats 7 and 8 dropped. The
-  // reader must accept such files and skip those arrays. Here the gradients are NaN and the
-  // list's indices out of range: a reader that checked them would refuse the file, one that
-  // used them in place of the current ones would not reproduce the unbroken run.
+  // Format 6 also stored the pair gradients in the previous configuration, formats 2-7 the
+  // last step's neighbour list and pair gradients, and formats 2-8 the nodal volumes of the
+  // average nodal pressure: scratch, which formats 7, 8 and 9 dropped. The reader must accept
+  // such files and skip those arrays. Here the gradients and volumes are NaN and the list's
+  // indices out of range: a reader that checked them would refuse the file, one that used
+  // them in place of the current ones would not reproduce the unbroken run.
   const SplitRun& run = splitRun();
   const Model& first = run.first;
   const std::size_t pairs = first.sph.neighbours.pairs();
   REQUIRE(pairs > 0);
-  for (const std::int64_t version : {6, 7}) {
+  for (const std::int64_t version : {6, 7, 8}) {
     INFO("format " << version);
     testing::TempFolder dir("checkpoint_format" + std::to_string(version));
     const std::string path = checkpointPath(dir.path.string(), first.step);
@@ -268,10 +269,19 @@ TEST_CASE("checkpoints of formats 6 and 7 (with scratch SPH arrays) continue bit
         REQUIRE(!h5::exists(sph, name));
       if (version == 6)
         h5::writeArray(sph, "pair_grad_prev", H5T_NATIVE_DOUBLE, nan.data(), pairs, 3);
-      h5::writeArray(sph, "pair_grad_last", H5T_NATIVE_DOUBLE, nan.data(), pairs, 3);
-      h5::writeArray(sph, "neighbour_last_index", H5T_NATIVE_INT, wild.data(), pairs, 1);
-      h5::writeArray(sph, "neighbour_last_offset", H5T_NATIVE_UINT64, offsets.data(),
-                     offsets.size(), 1);
+      if (version <= 7) {
+        h5::writeArray(sph, "pair_grad_last", H5T_NATIVE_DOUBLE, nan.data(), pairs, 3);
+        h5::writeArray(sph, "neighbour_last_index", H5T_NATIVE_INT, wild.data(), pairs, 1);
+        h5::writeArray(sph, "neighbour_last_offset", H5T_NATIVE_UINT64, offsets.data(),
+                       offsets.size(), 1);
+      }
+      const h5::Handle scratch = h5::openGroup(f, "scratch");
+      const std::vector<double> nan_nodes(first.nodes.size(),
+                                          std::numeric_limits<double>::quiet_NaN());
+      for (const char* name : {"nodal_volume", "nodal_volume0"}) {
+        REQUIRE(!h5::exists(scratch, name));
+        h5::writeArray(scratch, name, H5T_NATIVE_DOUBLE, nan_nodes.data(), nan_nodes.size(), 1);
+      }
       h5::writeAttribute(f, "format_version", version);
     }
     RunProgress read;
