@@ -85,8 +85,8 @@ TEST_CASE("an element's trigger: plastic strain, full damage, and the safety cri
           "[unit][erosion][conversion]") {
   // Reference: the criteria as the scene documents them (README, [conversion]): eps_p at the
   // threshold (the paper's), damage 1, V/V0 outside [min_volume_ratio, max_volume_ratio], and
-  // the smallest altitude under min_dt_ratio of its first; each exactly at its threshold, and
-  // just inside it.
+  // the smallest altitude under min_dt_ratio of its first. The plastic strain and the damage
+  // exactly at their thresholds and one ulp under; the ratios at half and twice theirs.
   Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(1e-3, 1e-3, 1e-3),
                                      1, 1, 1);
   const ConversionControls& c = m.controls.conversion;
