@@ -62,29 +62,17 @@ bool probe(const Nodes& nd, int a, const ExteriorFace& f, double tol, double dt,
   return true;
 }
 
-// Inverse mass; a node held in every direction does not move.
-double inverseMass(const Nodes& nd, int a) {
-  return nd.fix[a] == 7 || !(nd.m[a] > 0) ? 0.0 : 1.0 / nd.m[a];
-}
-
-// v += dv except in held directions.
-void changeVelocity(Nodes& nd, int a, Vec3 dv) {
-  for (int k = 0; k < 3; ++k)
-    if (nd.fix[a] & (1u << k)) dv[k] = 0.0;
-  nd.v[a] += dv;
-}
-
 // Paper eqs. 1-4 written with the impulse P on the slave (and -R_i P on the face nodes):
 // P (1/m_s + sum R_i^2/m_i) = alpha delta/dt changes the normal approach rate by alpha delta/dt,
 // i.e. dv_s = alpha (delta/dt) / (1 + sum R_i^2 m_s/m_i), dv_i = -R_i m_s dv_s / m_i.
 // Friction: the tangential impulse that stops the relative sliding, capped at mu P.
 void correct(Nodes& nd, int a, const ExteriorFace& f, const Hit& hit,
              double alpha, double mu, double dt) {
-  const double ws = inverseMass(nd, a);
+  const double ws = nd.inverseMass(a);
   std::array<double, 3> wi;
   double denom = ws;
   for (int i = 0; i < 3; ++i) {
-    wi[i] = inverseMass(nd, f.node[i]);
+    wi[i] = nd.inverseMass(f.node[i]);
     denom += hit.R[i] * hit.R[i] * wi[i];
   }
   if (!(denom > 0)) return;
@@ -98,8 +86,8 @@ void correct(Nodes& nd, int a, const ExteriorFace& f, const Hit& hit,
     const double vt_norm = v_t.norm();
     if (vt_norm > 0) impulse -= std::min(vt_norm / denom, mu * P) / vt_norm * v_t;
   }
-  changeVelocity(nd, a, ws * impulse);
-  for (int i = 0; i < 3; ++i) changeVelocity(nd, f.node[i], (-hit.R[i] * wi[i]) * impulse);
+  nd.addVelocity(a, ws * impulse);
+  for (int i = 0; i < 3; ++i) nd.addVelocity(f.node[i], (-hit.R[i] * wi[i]) * impulse);
 }
 
 }  // namespace

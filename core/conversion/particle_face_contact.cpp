@@ -18,10 +18,6 @@ namespace fesph {
 
 namespace {
 
-double inverseMass(const Nodes& nd, int a) {
-  return nd.fix[a] == 0b111 || !(nd.m[a] > 0) ? 0.0 : 1.0 / nd.m[a];
-}
-
 // Uniform hash grid of the exterior faces' swept boxes (start and predicted end positions,
 // inflated by the largest contact radius and particle travel). A particle only needs the
 // faces of the cell its predicted position falls in. The cell follows the typical face (the
@@ -293,15 +289,11 @@ void applyHit(Model& model, std::size_t p, const Hit& hit, double alpha, double 
   Nodes& nd = model.nodes;
   const ExteriorFace& f = model.surfaces.exterior[hit.face];
   double denom = 1.0 / pa.m[p];
-  for (int i = 0; i < 3; ++i) denom += hit.bary[i] * hit.bary[i] * inverseMass(nd, f.node[i]);
+  for (int i = 0; i < 3; ++i) denom += hit.bary[i] * hit.bary[i] * nd.inverseMass(f.node[i]);
   const double impulse = alpha * hit.delta / dt / denom;
   pa.v[p] += (impulse / pa.m[p]) * hit.normal;
-  for (int i = 0; i < 3; ++i) {
-    Vec3 dv = (-hit.bary[i] * impulse * inverseMass(nd, f.node[i])) * hit.normal;
-    for (int c = 0; c < 3; ++c)
-      if (nd.fix[f.node[i]] & (1u << c)) dv[c] = 0.0;
-    nd.v[f.node[i]] += dv;
-  }
+  for (int i = 0; i < 3; ++i)
+    nd.addVelocity(f.node[i], (-hit.bary[i] * impulse * nd.inverseMass(f.node[i])) * hit.normal);
 }
 
 // Buffers kept from call to call: taken afresh (~2 MB late in the quick run), their page faults

@@ -11,21 +11,6 @@
 
 namespace fesph {
 
-namespace {
-
-// Velocity change of a face node, zero in the directions its boundary conditions hold.
-void addNodeVelocity(Nodes& nd, int a, Vec3 dv) {
-  for (int k = 0; k < 3; ++k)
-    if (nd.fix[a] & (1u << k)) dv[k] = 0.0;
-  nd.v[a] += dv;
-}
-
-double inverseMass(const Nodes& nd, int a) {
-  return nd.fix[a] == 0b111 || !(nd.m[a] > 0) ? 0.0 : 1.0 / nd.m[a];
-}
-
-}  // namespace
-
 void tieToExposedFace(Model& model, std::size_t p, std::size_t e) {
   const Surfaces& s = model.surfaces;
   Particles& pa = model.particles;
@@ -90,12 +75,12 @@ void enforceTies(Model& model, int passes) {
       double denom = 1.0;
       for (int i = 0; i < 3; ++i) {
         v_face += t.bary[i] * nd.v[t.face[i]];
-        denom += t.bary[i] * t.bary[i] * pa.m[p] * inverseMass(nd, t.face[i]);
+        denom += t.bary[i] * t.bary[i] * pa.m[p] * nd.inverseMass(t.face[i]);
       }
       const Vec3 dv_s = -alpha * (pa.v[p] - v_face) / denom;
       pa.v[p] += dv_s;
       for (int i = 0; i < 3; ++i)
-        addNodeVelocity(nd, t.face[i], (-t.bary[i] * pa.m[p] * inverseMass(nd, t.face[i])) * dv_s);
+        nd.addVelocity(t.face[i], (-t.bary[i] * pa.m[p] * nd.inverseMass(t.face[i])) * dv_s);
     }
   }
 }

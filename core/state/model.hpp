@@ -33,6 +33,17 @@ struct Nodes {
   std::vector<int> body;          ///< owning body
   std::vector<std::uint8_t> fix;  ///< bit k set: velocity component k held at zero
   std::size_t size() const { return x.size(); }
+  /// What an impulse (contact, tie) moves node a by per unit: 1/m, and 0 for a node held in
+  /// every direction or without mass, which the impulse cannot move.
+  double inverseMass(std::size_t a) const {
+    return fix[a] == 0b111 || !(m[a] > 0) ? 0.0 : 1.0 / m[a];
+  }
+  /// v_a += dv, except in the directions node a is held in.
+  void addVelocity(std::size_t a, Vec3 dv) {
+    for (int k = 0; k < 3; ++k)
+      if (fix[a] & (1u << k)) dv[k] = 0.0;
+    v[a] += dv;
+  }
 };
 
 /// Linear tetrahedra of all bodies.

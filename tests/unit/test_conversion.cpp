@@ -2,12 +2,15 @@
 // Adaptive FE -> SPH conversion (issue 6): one element becomes one particle with its mass,
 // momentum and history; the tie keeps a particle born on a face moving with that face.
 #include "core/conversion/convert.hpp"
+#include "core/conversion/particle_face_contact.hpp"
 #include "core/conversion/ties.hpp"
 #include "core/solver/step.hpp"
+#include "core/sph/particle_body.hpp"
 #include "tests/support/models.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -58,7 +61,8 @@ TEST_CASE("a single conversion conserves mass and momentum and keeps the element
   // to 1e-12 relative; the kinetic energy jump is (m_e/8) sum |v_a - v_mean|^2 (1e-12 relative),
   // booked in EnergyBudget::conversion; the particle carries the element's state, sits at the
   // centroid, d0 = cbrt(V0), V = V, h = kappa cbrt(V).
-  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
   m.controls.conversion.mode = ConversionMode::Sph;
   m.controls.conversion.plastic_strain = 0.2;
   scrambleVelocities(m);
@@ -162,7 +166,8 @@ TEST_CASE("a tied particle follows its face and the tie conserves momentum",
   // Reference: eqs. 6-12 (Johnson 1994 tie): after enforceTies the relative velocity
   // v_s - sum R_i v_i of a tie is below 1e-9 m/s (velocities ~ 100 m/s) when the ties share no
   // node (the last relaxed pass has alpha = 1); momentum conserved to 1e-12 relative.
-  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
   m.controls.conversion.mode = ConversionMode::Sph;
   scrambleVelocities(m, 100.0, 40.0);  // the face moves and deforms
   const std::size_t e = centreElement(m);
@@ -191,6 +196,27 @@ TEST_CASE("a tied particle follows its face and the tie conserves momentum",
                 passes, r, vrel(0), dp);
     CHECK(r < 1e-9);
     CHECK(dp < 1e-12);
+  }
+
+  // A face node held in every direction (a clamped rim) takes no share of the correction: the
+  // particle takes it all, the node keeps its velocity, and the tie still closes in one pass.
+  {
+    Model c = m;
+    const Tie& t0 = c.particles.tie[0];
+    int largest = 0;  // the node with the largest weight, so that its share is no round-off
+    for (int i = 1; i < 3; ++i)
+      if (t0.bary[i] > t0.bary[largest]) largest = i;
+    const int held = t0.face[largest];
+    c.nodes.fix[held] = 0b111;
+    const Vec3 v_held = c.nodes.v[held];
+    enforceTies(c, 1);
+    Vec3 vf = Vec3::Zero();
+    const Tie& t = c.particles.tie[0];
+    for (int i = 0; i < 3; ++i) vf += t.bary[i] * c.nodes.v[t.face[i]];
+    std::printf("[conversion] one tie to a face with a held node: |v_rel| %.2e m/s\n",
+                (c.particles.v[0] - vf).norm());
+    CHECK((c.particles.v[0] - vf).norm() < 1e-9);
+    CHECK(c.nodes.v[held] == v_held);
   }
 
   // Several ties sharing face nodes: the relaxed passes leave a residual (reported); more
@@ -235,4 +261,128 @@ TEST_CASE("a tied particle follows its face and the tie conserves momentum",
     CHECK(r < last);
     last = r;
   }
+}
+
+TEST_CASE("a tie is released when its particle fails or its face stops bounding a live element",
+          "[unit][conversion][ties]") {
+  // A failed particle carries no stress (docs/sph.md) and must be free to fly off as debris; a
+  // face no longer on the surface belongs to no live element to follow.
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
+  m.controls.conversion.mode = ConversionMode::Sph;
+  const std::size_t e = centreElement(m);
+  m.elems.state[e].eps_p = 1.0;
+  REQUIRE(convertElements(m, 1.3) == 1);
+  REQUIRE(m.particles.tie[0].active());
+
+  SECTION("damage just under 1 keeps the tie, damage 1 releases it") {
+    m.particles.state[0].damage = std::nextafter(1.0, 0.0);
+    CHECK(releaseTies(m) == 0);
+    CHECK(m.particles.tie[0].active());
+    m.particles.state[0].damage = 1.0;
+    CHECK(releaseTies(m) == 1);
+    CHECK_FALSE(m.particles.tie[0].active());
+  }
+  SECTION("the live element behind the face converts: the face is gone") {
+    const std::array<int, 3> face = m.particles.tie[0].face;
+    std::size_t behind = m.elems.size();
+    for (std::size_t k = 0; k < m.elems.size(); ++k) {
+      if (m.elems.status[k] != ElemStatus::Live) continue;
+      const auto& c = m.elems.conn[k];
+      if (std::all_of(face.begin(), face.end(),
+                      [&](int a) { return std::find(c.begin(), c.end(), a) != c.end(); }))
+        behind = k;
+    }
+    REQUIRE(behind < m.elems.size());
+    CHECK(releaseTies(m) == 0);  // nothing changed yet
+    m.elems.state[behind].eps_p = 1.0;
+    REQUIRE(convertElements(m, 1.3) == 1);
+    CHECK(releaseTies(m) >= 1);
+    CHECK_FALSE(m.particles.tie[0].active());
+  }
+}
+
+TEST_CASE("a particle whose centroid projects outside its face is tied within the face",
+          "[unit][conversion][ties]") {
+  // Two tets on the face abc; the upper one leans far over: its centroid (1, 1, 0.25) mm
+  // projects onto abc at barycentric weights (-1, 1, 1). The tie's weights are the nearest
+  // point of the triangle, (0, 1/2, 1/2): weights outside [0, 1] would extrapolate the face's
+  // velocity (docs/sph.md, coupling).
+  const double mm = 1e-3;
+  TetMesh mesh;
+  mesh.nodes = {Vec3(0, 0, 0), Vec3(mm, 0, 0), Vec3(0, mm, 0), Vec3(3 * mm, 3 * mm, mm),
+                Vec3(0.3 * mm, 0.3 * mm, -mm)};
+  mesh.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  addBody(m, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
+  finaliseModel(m);
+  m.controls.conversion.mode = ConversionMode::Sph;
+  m.elems.state[0].eps_p = 1.0;
+  REQUIRE(convertElements(m, 1.3) == 1);
+  const Tie& t = m.particles.tie[0];
+  REQUIRE(t.active());
+  for (int i = 0; i < 3; ++i) {
+    const double expected = t.face[i] == 0 ? 0.0 : 0.5;
+    CHECK(t.bary[i] == Approx(expected).margin(1e-12));
+  }
+}
+
+TEST_CASE("a particle crossing two faces at an edge is pushed out of the one it enters deepest",
+          "[unit][conversion][contact]") {
+  // Reference: docs/contact.md (particle-face contact): of the faces a particle ends the step
+  // behind, the one with the deepest penetration is corrected, along its normal. A particle
+  // 0.2 mm outside the top edge (x = 3 mm, z = 3 mm) of a resting box ends the step 0.3 mm
+  // behind one face and 0.05 mm behind the other; mirrored, the other way round. Either way
+  // only the deeper face's normal component of its velocity may change (1e-9 relative).
+  const double mm = 1e-3, dt = 1e-6;
+  for (const bool top_deeper : {true, false}) {
+    Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                       Vec3(3 * mm, 3 * mm, 3 * mm), 3, 3, 3);
+    const Vec3 v_top(-0.25 * mm / dt, 0, -0.5 * mm / dt);  // into the top face deeper
+    const Vec3 v = top_deeper ? v_top : Vec3(v_top.z(), 0, v_top.x());
+    const double s = 0.2 * mm;
+    addParticleBody(m, "particle", {Vec3(3.2 * mm, 1.5 * mm, 3.2 * mm)}, {s * s * s}, 0, v,
+                    true);
+    finaliseModel(m);
+    // Every box node held along the deeper face's normal: the push must not move them.
+    const int held = top_deeper ? 2 : 0;
+    for (std::uint8_t& f : m.nodes.fix) f = static_cast<std::uint8_t>(1u << held);
+    enforceParticleFaceContact(m, dt, 1);
+    const Vec3 dv = m.particles.v[0] - v;
+    const int other = top_deeper ? 0 : 2;
+    std::printf("[conversion] edge crossing, %s face deeper: dv = (%.3g, %.3g, %.3g) m/s\n",
+                top_deeper ? "top" : "side", dv.x(), dv.y(), dv.z());
+    CHECK(dv[held] > 0.1 * mm / dt);  // pushed back out through the deeper face
+    CHECK(std::abs(dv[other]) < 1e-9 * v.norm());
+    CHECK(std::abs(dv.y()) < 1e-9 * v.norm());
+    for (const Vec3& vn : m.nodes.v) CHECK(vn[held] == 0.0);
+  }
+}
+
+TEST_CASE("the tie passes relax as alpha_k = 1/sqrt(N - k + 1)", "[unit][conversion][ties]") {
+  // Reference: Hu, Sun & Zhu (2015) eqs. 5-6 worked by hand. Two particles of mass 3M tied
+  // at the centre (weights 1/3) of one face whose three nodes have mass M: each tie correction
+  // is then a 1-D exchange between the particle and the face's mean velocity u with
+  // denominator 2, v_p -= alpha (v_p - u) / 2, u += alpha (v_p - u) / 2. From v1 = 2, v2 = 0,
+  // u = 0 m/s, two passes (alpha = 1/sqrt(2), then 1) end exactly at v1 = 7/8, v2 = 9/16,
+  // u = 9/16 m/s (with alpha = 1 in both passes: 3/4, 5/8, 5/8).
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3e-3, 3e-3, 3e-3), 1, 1, 1);
+  const std::array<int, 3> face = {0, 1, 2};
+  const double M = 1e-6;
+  for (int a : face) m.nodes.m[a] = M;
+  for (Vec3& v : m.nodes.v) v = Vec3::Zero();
+  for (const double v0 : {2.0, 0.0}) {
+    const std::size_t p = appendParticle(m.particles, Vec3::Zero(), Vec3(v0, 0, 0), 3 * M, 1e-9,
+                                         1e-3, 1.3e-3, PointState{}, 0, 0, -1);
+    m.particles.tie[p].face = face;
+    m.particles.tie[p].bary = Vec3::Constant(1.0 / 3.0);
+  }
+  enforceTies(m, 2);
+  std::printf("[conversion] two ties, two passes: v1 %.15g, v2 %.15g, u %.15g m/s\n",
+              m.particles.v[0].x(), m.particles.v[1].x(), m.nodes.v[0].x());
+  CHECK(m.particles.v[0].x() == Approx(0.875).epsilon(1e-14));
+  CHECK(m.particles.v[1].x() == Approx(0.5625).epsilon(1e-14));
+  for (int a : face) CHECK(m.nodes.v[a].x() == Approx(0.5625).epsilon(1e-14));
 }
