@@ -508,3 +508,38 @@ TEST_CASE("finaliseMaterial derives moduli and rejects impossible values", "[uni
   lin.c0 = 0;
   CHECK(finaliseMaterial(lin).empty());
 }
+
+TEST_CASE("a return heats by chi sigma_y dlam / (rho cp) and damages by dlam / eps_f(T at its "
+          "start)", "[unit][material]") {
+  // Reference: the update's contract (johnson_cook.cpp, after Johnson & Cook 1983 and 1985):
+  // the plastic work of a return is sigma_y dlam with sigma_y the flow stress at its end
+  // (where the stress is: von Mises after the return), the heating chi times that over rho cp,
+  // and the damage increment dlam / eps_f(-p / sigma_y, dlam / dt, T) with T the temperature
+  // at the start of the step. A tiny heat capacity (5 J/kg/K) makes one step heat by ~100 K,
+  // so that eps_f at the start and at the end differ by percent (D5 = 0.61) and the work at
+  // the end of the return differs from that at its start (hardening, rate). To 1e-9 (the
+  // return converges to 1e-10 sigma_y).
+  Material mat = steel4340();
+  mat.cp = 5.0;
+  REQUIRE(finaliseMaterial(mat).empty());
+  PointState st;
+  st.T = mat.T_room;
+  st.eps_p = 0.1;
+  st.p = -2e8;  // in tension
+  const PointState before = st;
+  const double dt = 1e-7;
+  const double w = updateDeviatoricStress(mat, uniaxialRate(1e5), kNoSpin, dt, mat.rho0, st);
+  const double dlam = st.eps_p - before.eps_p, sigma_y = vonMises(st.s);
+  REQUIRE(dlam > 1e-3);
+  const double heating = st.T - before.T;
+  std::printf("[material] one return: dlam %.4g, heating %.1f K, damage %.4g\n", dlam, heating,
+              st.damage);
+  CHECK(w == Approx(sigma_y * dlam).epsilon(1e-9));
+  CHECK(heating == Approx(mat.taylor_quinney * sigma_y * dlam / (mat.rho0 * mat.cp)).epsilon(1e-9));
+  CHECK(heating > 50);
+  const double triaxiality = -before.p / sigma_y;
+  const double at_start = dlam / failureStrain(mat, triaxiality, dlam / dt, before.T);
+  const double at_end = dlam / failureStrain(mat, triaxiality, dlam / dt, st.T);
+  CHECK(st.damage == Approx(at_start).epsilon(1e-9));
+  CHECK(std::abs(at_end - at_start) > 0.01 * at_start);
+}
