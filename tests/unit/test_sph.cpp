@@ -702,6 +702,23 @@ TEST_CASE("sph particle contact: compression only, momentum kept", "[unit][sph]"
   enforceParticleContact(m, dt);
   REQUIRE(pa.v[0] == Vec3(-5, 0, 0));
   REQUIRE(pa.v[1] == Vec3(5, 0, 0));
+
+  // Apart by 0.01 mm and approaching: a pair is listed when its gap is within the two
+  // particles' travel (the radii hold dt |v|), but only a gap the step closes is cut. Closing
+  // at 20 m/s (0.002 mm in the step): untouched; at 120 m/s: landed on the contact distance,
+  // closing at gap / dt = 100 m/s.
+  const double apart = 1e-5;
+  m.particles.x[1] = Vec3(contact_distance + apart, 0, 0);
+  for (const double vx : {10.0, 60.0}) {
+    CAPTURE(vx);
+    m.particles.v[0] = Vec3(vx, 100, 0);
+    m.particles.v[1] = Vec3(-vx, -100, 0);
+    enforceParticleContact(m, dt);
+    REQUIRE(m.sph.contact_pairs.size() == 1);
+    const double closing = pa.v[0].x() - pa.v[1].x();
+    REQUIRE(closing == Approx(std::min(2 * vx, apart / dt)).epsilon(1e-9));
+    REQUIRE(pa.v[0].y() == 100.0);
+  }
 }
 
 TEST_CASE("sph failed particles do not dilate past 0.9 rho0; intact ones follow continuity",
