@@ -763,3 +763,66 @@ TEST_CASE("sph failed particles do not dilate past 0.9 rho0; intact ones follow 
     REQUIRE(fesph::testing::totalMass(m) == mass0);
   }
 }
+
+TEST_CASE("sph: a particle's energy follows de = -p dv to second order in its step "
+          "(Mie-Grueneisen)", "[.][known-defect][sph][conservation]") {
+  // KNOWN DEFECT (docs/sph.md, "Open: the particle volume one step behind"): registered with
+  // ctest's WILL_FAIL, so it passes while the defect stands and fails once it is mended, to be
+  // moved into the default run then. Measured: ratios 1.97 / 1.98 (first order).
+  // Reference: as for the elements (test_fem.cpp): de = -p(rho, e) dv without dissipation,
+  // integrated with RK4 (4000 steps) to the particle's own end volume. The update is meant to
+  // be trapezoidal in p with one predictor and one corrector: its error at 10 % compression
+  // must fall > 3x when the step halves (second order, ~4x), and its stored pressure is the
+  // EOS at its stored energy (1e-12). An interior particle of a 7^3 lattice compressed
+  // uniformly by prescribed motion x = x0 (1 - r t) (its corrected gradient is exact for this
+  // field); no deviatoric stress, the artificial viscosity off (its heat would add to e).
+  Material mat = fesph::testing::elasticMaterial();
+  mat.eos = EosModel::MieGruneisen;
+  mat.c0 = 4570, mat.s = 1.49, mat.gamma0 = 1.93;
+  REQUIRE(finaliseMaterial(mat).empty());
+  const double s = 1e-3, t_end = 1e-6, r = (1.0 - std::cbrt(0.9)) / t_end;
+  const std::size_t centre = (3 * 7 + 3) * 7 + 3;
+  auto compress = [&](int steps, double& v_end) {
+    Model m;
+    m.materials.push_back(mat);
+    const auto p = lattice(Vec3(-3.5 * s, -3.5 * s, -3.5 * s), 7, 7, 7, s);
+    addParticleBody(m, "block", p, std::vector<double>(p.size(), s * s * s), 0, Vec3::Zero(),
+                    false);
+    m.sph.controls.av_alpha = m.sph.controls.av_beta = 0;
+    finaliseModel(m);
+    const std::vector<Vec3> x0 = m.particles.x;
+    for (std::size_t i = 0; i < x0.size(); ++i) m.particles.v[i] = -r * x0[i];
+    const double dt = t_end / steps;
+    for (int n = 1; n <= steps; ++n) {
+      for (std::size_t i = 0; i < x0.size(); ++i) m.particles.x[i] = (1 - r * n * dt) * x0[i];
+      computeParticleForces(m, dt);
+    }
+    const PointState& st = m.particles.state[centre];
+    v_end = 1.0 / m.particles.rho[centre];
+    REQUIRE(st.p == Approx(eosPressure(mat, m.particles.rho[centre], st.e, 0.0)).epsilon(1e-12));
+    return st.e;
+  };
+  auto reference = [&](double v1) {
+    const int n = 4000;
+    const double v0 = 1.0 / mat.rho0, h = (v1 - v0) / n;
+    auto dedv = [&](double v, double e) { return -eosPressure(mat, 1.0 / v, e, 0.0); };
+    double e = 0;
+    for (int k = 0; k < n; ++k) {
+      const double v = v0 + k * h;
+      const double k1 = dedv(v, e), k2 = dedv(v + 0.5 * h, e + 0.5 * h * k1),
+                   k3 = dedv(v + 0.5 * h, e + 0.5 * h * k2), k4 = dedv(v + h, e + h * k3);
+      e += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    return e;
+  };
+  double v10 = 0, v20 = 0, v40 = 0;
+  const double e10 = compress(10, v10), e20 = compress(20, v20), e40 = compress(40, v40);
+  const double err10 = std::abs(e10 - reference(v10)), err20 = std::abs(e20 - reference(v20)),
+               err40 = std::abs(e40 - reference(v40));
+  std::printf("[sph] energy of a compressed particle, %.6g J/kg: errors %.3g / %.3g / %.3g J/kg "
+              "at 10 / 20 / 40 steps (ratios %.2f, %.2f)\n",
+              e40, err10, err20, err40, err10 / err20, err20 / err40);
+  CHECK(err40 < 1e-4 * e40);
+  CHECK(err10 / err20 > 3);
+  CHECK(err20 / err40 > 3);
+}
