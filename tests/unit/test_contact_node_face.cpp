@@ -4,6 +4,7 @@
 // elsewhere, and caps friction at mu |dv_n|.
 #include "core/contact/node_face_contact.hpp"
 #include "core/contact/surfaces.hpp"
+#include "core/solver/boundary.hpp"
 #include "core/solver/step.hpp"
 #include "tests/support/models.hpp"
 
@@ -188,5 +189,37 @@ TEST_CASE("Coulomb friction: capped by mu |dv_n|, never reverses sliding", "[uni
     enforceNodeFaceContact(c, kDt, ContactControls{3, 10.0});
     REQUIRE(c.nodes.v[s].x() < 19.0);
     REQUIRE(std::abs(relativeSliding(c)) < 1e-3 * 20.0);
+  }
+}
+
+TEST_CASE("a rigid wall lands nodes on it and its friction slows or stops their sliding",
+          "[unit][contact]") {
+  // Reference: the wall's contract (boundary.cpp): a node that would end the step behind the
+  // wall gets the normal velocity change dvn that lands it on the wall; Coulomb friction then
+  // takes mu dvn off its tangential speed, at most all of it (it sticks, never slides back).
+  // A 1 mm cube 0.01 mm over the wall at 200 m/s down and 50 m/s along x, dt 0.1 us: dvn =
+  // 100 m/s for the bottom nodes. mu = 0: sliding kept; mu = 0.1: 50 -> 40 m/s; mu = 1:
+  // stopped. To round-off (1e-12 m/s relative).
+  const double dt = 1e-7, lift = 1e-5;
+  for (const double mu : {0.0, 0.1, 1.0}) {
+    CAPTURE(mu);
+    Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(1e-3, 1e-3, 1e-3),
+                                       1, 1, 1, Vec3(50, 0, -200));
+    for (Vec3& x : m.nodes.x) x.z() += lift;
+    RigidWall wall;
+    wall.friction = mu;
+    m.walls.push_back(wall);
+    enforceRigidWalls(m, dt);
+    const double slide = std::max(0.0, 50 - mu * 100);
+    for (std::size_t a = 0; a < m.nodes.size(); ++a) {
+      const Vec3& v = m.nodes.v[a];
+      if (m.nodes.x[a].z() > 1e-4) {  // the top: untouched
+        CHECK(v == Vec3(50, 0, -200));
+        continue;
+      }
+      CHECK(m.nodes.x[a].z() + dt * v.z() == Approx(0.0).margin(1e-18));  // on the wall
+      CHECK(v.x() == Approx(slide).margin(1e-12 * 50));
+      CHECK(v.y() == 0.0);
+    }
   }
 }
