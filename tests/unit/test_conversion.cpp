@@ -265,8 +265,8 @@ TEST_CASE("a tied particle follows its face and the tie conserves momentum",
 
 TEST_CASE("a tie is released when its particle fails or its face stops bounding a live element",
           "[unit][conversion][ties]") {
-  // A failed particle carries no stress (docs/sph.md) and must be free to fly off as debris; a
-  // face no longer on the surface belongs to no live element to follow.
+  // Reference: docs/design.md, ties: released when the face stops being exterior or the
+  // particle is fully damaged (a failed particle carries no stress and flies off as debris).
   Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
                                      Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
   m.controls.conversion.mode = ConversionMode::Sph;
@@ -307,7 +307,7 @@ TEST_CASE("a particle whose centroid projects outside its face is tied within th
   // Two tets on the face abc; the upper one leans far over: its centroid (1, 1, 0.25) mm
   // projects onto abc at barycentric weights (-1, 1, 1). The tie's weights are the nearest
   // point of the triangle, (0, 1/2, 1/2): weights outside [0, 1] would extrapolate the face's
-  // velocity (docs/sph.md, coupling).
+  // velocity (docs/design.md, ties).
   const double mm = 1e-3;
   TetMesh mesh;
   mesh.nodes = {Vec3(0, 0, 0), Vec3(mm, 0, 0), Vec3(0, mm, 0), Vec3(3 * mm, 3 * mm, mm),
@@ -330,8 +330,9 @@ TEST_CASE("a particle whose centroid projects outside its face is tied within th
 
 TEST_CASE("a particle crossing two faces at an edge is pushed out of the one it enters deepest",
           "[unit][conversion][contact]") {
-  // Reference: docs/contact.md (particle-face contact): of the faces a particle ends the step
-  // behind, the one with the deepest penetration is corrected, along its normal. A particle
+  // Reference: the contact's contract (docs/design.md, particle-face contact; deepestHit in
+  // particle_face_contact.cpp): of the faces a particle ends the step behind, the one with the
+  // deepest penetration is corrected, along its normal. A particle
   // 0.2 mm outside the top edge (x = 3 mm, z = 3 mm) of a resting box ends the step 0.3 mm
   // behind one face and 0.05 mm behind the other; mirrored, the other way round. Either way
   // only the deeper face's normal component of its velocity may change (1e-9 relative).
