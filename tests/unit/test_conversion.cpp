@@ -361,6 +361,49 @@ TEST_CASE("a particle crossing two faces at an edge is pushed out of the one it 
   }
 }
 
+TEST_CASE("the particle-face passes relax as alpha_k = 1/sqrt(N - k + 1)",
+          "[unit][conversion][contact]") {
+  // Reference: docs/design.md, particle-face contact (Hu, Sun & Zhu 2015, eq. 4 with the
+  // relaxation of eqs. 5-6), worked by hand. Two particles of mass 3M at the centroid of one
+  // top face of a box, whose three nodes have mass M, start at its contact radius and approach
+  // it at w1 = 2 and w2 = 1 m/s. Each push is then a 1-D exchange between a particle and the
+  // face's velocity u with denominator 2: w -= alpha (w - u) / 2, u += alpha (w - u) / 2 (z
+  // up, so w1 = -2, w2 = -1), and only approaching pairs (w < u) are pushed. Two passes
+  // (alpha = 1/sqrt(2), then 1) end at w1 = u = -1 - (sqrt(2) - 1)/8 and w2 = -1 + (sqrt(2) -
+  // 1)/4 m/s: particle 2 is pushed in the first pass only, and recedes after the second
+  // (alpha = 1 in both passes gives -1, -1, -1). Tolerance 1e-12: the depths are gaps taken
+  // from positions 3 mm from the origin over motions of 10-20 um (round-off ~1e-14).
+  const double mm = 1e-3, dt = 1e-5, M = 1e-6, s = 0.2 * mm;
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3 * mm, 3 * mm, 3 * mm), 1, 1, 1);
+  const auto& faces = m.surfaces.exterior;
+  const auto top = std::find_if(faces.begin(), faces.end(), [&](const ExteriorFace& f) {
+    return std::all_of(f.node.begin(), f.node.end(),
+                       [&](int a) { return m.nodes.x[a].z() == 3 * mm; });
+  });
+  REQUIRE(top != faces.end());
+  const std::array<int, 3> face = top->node;
+  Vec3 centroid = Vec3::Zero();
+  for (int a : face) centroid += m.nodes.x[a] / 3.0;
+  const Vec3 start = centroid + Vec3(0, 0, kParticleContactRadius * s);  // at its radius
+  addParticleBody(m, "particles", {start, start}, {s * s * s, s * s * s}, 0, Vec3::Zero(), true);
+  finaliseModel(m);
+  for (int a : face) m.nodes.m[a] = M;
+  for (Vec3& v : m.nodes.v) v = Vec3::Zero();
+  m.particles.m[0] = m.particles.m[1] = 3 * M;
+  m.particles.v[0] = Vec3(0, 0, -2.0);
+  m.particles.v[1] = Vec3(0, 0, -1.0);
+  enforceParticleFaceContact(m, dt, 2);
+  const double w1 = m.particles.v[0].z(), w2 = m.particles.v[1].z(), u = m.nodes.v[face[0]].z();
+  std::printf("[conversion] two particles on a face, two passes: w1 %.15g, w2 %.15g, u %.15g "
+              "m/s\n", w1, w2, u);
+  const double root2 = std::sqrt(2.0);
+  CHECK(w1 == Approx(-1 - (root2 - 1) / 8).epsilon(1e-12));
+  CHECK(w2 == Approx(-1 + (root2 - 1) / 4).epsilon(1e-12));
+  for (int a : face) CHECK(m.nodes.v[a].z() == Approx(-1 - (root2 - 1) / 8).epsilon(1e-12));
+  CHECK(3 * M * (w1 + w2) + 3 * M * u == Approx(-9 * M).epsilon(1e-12));  // momentum
+}
+
 TEST_CASE("the tie passes relax as alpha_k = 1/sqrt(N - k + 1)", "[unit][conversion][ties]") {
   // Reference: Hu, Sun & Zhu (2015) eqs. 5-6 worked by hand. Two particles of mass 3M tied
   // at the centre (weights 1/3) of one face whose three nodes have mass M: each tie correction
