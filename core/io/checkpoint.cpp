@@ -35,7 +35,10 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 8: no neighbour_last_offset, neighbour_last_index, pair_grad_last (the same: skipped).
 // 9: no nodal_volume, nodal_volume0 (read by nothing since the element pass takes each node's
 //    ratio in their place, before it reads it: skipped).
-constexpr std::int64_t kFormatVersion = 9;
+// 10: no v_node_free, v_particle_free (each step writes them before it reads them; a model
+//    not yet stepped has none, and its checkpoint failed the length check): older files hold
+//    them and the reader skips them.
+constexpr std::int64_t kFormatVersion = 10;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -104,8 +107,8 @@ FESPH_CHECKPOINT_FIELDS(Body, sizeof(std::string) + 2 * sizeof(int) + sizeof(dou
 FESPH_CHECKPOINT_FIELDS(Model, sizeof(Nodes) + sizeof(Elements) + sizeof(Particles) +
                                    4 * kVec + sizeof(Surfaces) + sizeof(SphWorkspace) +
                                    sizeof(SolverControls) + sizeof(EnergyBudget) +
-                                   sizeof(ConversionStats) + 5 * kVec +
-                                   kVec /* scratch */ + 2 * sizeof(double) +
+                                   sizeof(ConversionStats) + 3 * kVec +
+                                   3 * kVec /* scratch */ + 2 * sizeof(double) +
                                    sizeof(long) + sizeof(std::string) + sizeof(PhaseTimes));
 #undef FESPH_CHECKPOINT_FIELDS
 
@@ -467,8 +470,6 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
                 corner_force.size() * sizeof(corner_force[0]),
                 reinterpret_cast<char*>(m.corner_force.data()));
   }
-  ar.array("v_node_free", m.v_node_free);
-  ar.array("v_particle_free", m.v_particle_free);
   ar.leave();
 
   ar.value("time", m.time);
@@ -531,7 +532,7 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
   const std::size_t nb = m.bodies.size(), nm = m.materials.size();
   const Nodes& nd = m.nodes;
   for (std::size_t n : {nd.x0.size(), nd.v.size(), nd.f.size(), nd.m.size(), nd.body.size(),
-                        nd.fix.size(), m.v_node_free.size(), m.surfaces.node_face_count.size(),
+                        nd.fix.size(), m.surfaces.node_face_count.size(),
                         m.surfaces.node_slot.size()})
     if (n != nn) fail("node arrays of different lengths");
   const Elements& el = m.elems;
@@ -544,7 +545,7 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
   for (std::size_t n : {pa.v.size(), pa.f.size(), pa.m.size(), pa.V.size(), pa.rho.size(),
                         pa.h.size(), pa.d0.size(), pa.dt.size(), pa.state.size(),
                         pa.body.size(), pa.material.size(), pa.parent.size(), pa.tie.size(),
-                        pa.id.size(), m.v_particle_free.size()})
+                        pa.id.size()})
     if (n != np) fail("particle arrays of different lengths");
   if (nb == 0) fail("no bodies");
   for (std::size_t a = 0; a < nn; ++a)
@@ -596,6 +597,14 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
     fail("neighbour list");
   if (has_pair_stab && m.sph.pair_stab.size() != nl.index.size())
     fail("pair stabilisation forces");
+  for (const SphSnapshot* snap : {&m.sph.current, &m.sph.previous}) {
+    const SphSnapshot& c = *snap;
+    const std::size_t n = c.size();
+    for (std::size_t k : {c.v.size(), c.h.size(), c.V.size(), c.rho.size(), c.c.size(),
+                          c.d.size(), c.B.size(), c.R.size(), c.tensile.size()})
+      if (k != n) fail("SPH snapshot arrays of different lengths");
+    if (n > np) fail("SPH snapshot of more particles than the model has");
+  }
 }
 
 }  // namespace

@@ -214,7 +214,9 @@ struct Model {
   /// Each node's V / V0 over its live elements (ANP), taken once a node in the element pass
   /// and read at every corner (not in the checkpoint: taken again before it is read).
   std::vector<double> nodal_volume_ratio;
-  std::vector<Vec3> v_node_free, v_particle_free;  ///< velocities before the corrections
+  /// Velocities before the corrections (written by each step before it reads them: not in
+  /// the checkpoint).
+  std::vector<Vec3> v_node_free, v_particle_free;
 
   double time = 0;       ///< s
   double dt = 0;         ///< last time step, s

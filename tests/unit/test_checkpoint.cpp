@@ -521,6 +521,10 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
     }
     return "";
   };
+  SECTION("not a bad one: a checkpoint written before the first step reads back") {
+    REQUIRE(model.step == 0);
+    REQUIRE(error(good).empty());
+  }
   SECTION("missing") {
     const std::string what = error((dir.path / "nope.h5").string());
     REQUIRE(what.find("nope.h5: no such file") != std::string::npos);
@@ -580,5 +584,18 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
       h5::writeArray(nodes, "m", H5T_NATIVE_DOUBLE, &one, 1, 1);
     }
     REQUIRE(error(good).find("inconsistent checkpoint: node arrays") != std::string::npos);
+  }
+  SECTION("a checkpoint whose SPH snapshot arrays do not fit together") {
+    {  // the snapshot of a model without particles is empty: one volume too many
+      const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
+      REQUIRE(H5Ldelete(f.id(), "/sph/current/V", H5P_DEFAULT) >= 0);
+      const h5::Handle current = h5::openGroup(f, "sph/current");
+      const double volume = 1e-9;
+      h5::writeArray(current, "V", H5T_NATIVE_DOUBLE, &volume, 1, 1);
+    }
+    const std::string what = error(good);
+    INFO(what);
+    REQUIRE(what.find("inconsistent checkpoint: SPH snapshot arrays of different lengths") !=
+            std::string::npos);
   }
 }
