@@ -38,7 +38,9 @@ constexpr const char* kFormat = "fesph checkpoint";
 // 10: no v_node_free, v_particle_free (each step writes them before it reads them; a model
 //    not yet stepped has none, and its checkpoint failed the length check): older files hold
 //    them and the reader skips them.
-constexpr std::int64_t kFormatVersion = 10;
+// 11: the SPH snapshots' volume rate (SphSnapshot::volume_rate), from which the next step
+//    predicts its volumes; older files read it as 0 (one step weighted by V^{n-1}).
+constexpr std::int64_t kFormatVersion = 11;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -90,7 +92,7 @@ constexpr std::size_t kVec = sizeof(std::vector<int>);
 FESPH_CHECKPOINT_FIELDS(Nodes, 7 * kVec);
 FESPH_CHECKPOINT_FIELDS(Elements, 14 * kVec + 2 * kVec + sizeof(long) /* scratch */);
 FESPH_CHECKPOINT_FIELDS(Particles, 15 * kVec);
-FESPH_CHECKPOINT_FIELDS(SphSnapshot, 10 * kVec);
+FESPH_CHECKPOINT_FIELDS(SphSnapshot, 11 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
                                           12 * kVec + 5 * kVec /* scratch */);
@@ -268,6 +270,8 @@ template <class Ar> void transfer(Ar& ar, SphSnapshot& s) {
   ar.array("v", s.v);
   ar.array("h", s.h);
   ar.array("V", s.V);
+  if (ar.version >= 11) ar.array("volume_rate", s.volume_rate);
+  else if (Ar::reading) s.volume_rate.assign(s.x.size(), 0.0);
   ar.array("rho", s.rho);
   ar.array("c", s.c);
   ar.array("d", s.d);
@@ -600,8 +604,8 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
   for (const SphSnapshot* snap : {&m.sph.current, &m.sph.previous}) {
     const SphSnapshot& c = *snap;
     const std::size_t n = c.size();
-    for (std::size_t k : {c.v.size(), c.h.size(), c.V.size(), c.rho.size(), c.c.size(),
-                          c.d.size(), c.B.size(), c.R.size(), c.tensile.size()})
+    for (std::size_t k : {c.v.size(), c.h.size(), c.V.size(), c.volume_rate.size(), c.rho.size(),
+                          c.c.size(), c.d.size(), c.B.size(), c.R.size(), c.tensile.size()})
       if (k != n) fail("SPH snapshot arrays of different lengths");
     if (n > np) fail("SPH snapshot of more particles than the model has");
   }

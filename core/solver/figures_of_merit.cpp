@@ -17,7 +17,7 @@ std::size_t bytes(const T&... containers) {
 }
 
 std::size_t snapshotBytes(const SphSnapshot& s) {
-  return bytes(s.x, s.v, s.h, s.V, s.rho, s.c, s.d, s.B, s.R, s.tensile);
+  return bytes(s.x, s.v, s.h, s.V, s.volume_rate, s.rho, s.c, s.d, s.B, s.R, s.tensile);
 }
 
 }  // namespace

@@ -44,10 +44,10 @@ static_assert(sizeof(Particles) == 15 * sizeof(std::vector<int>),
 
 template <class Fn>
 void forEachArray(SphSnapshot& s, Fn&& fn) {
-  fn(s.x), fn(s.v), fn(s.h), fn(s.V), fn(s.rho), fn(s.c), fn(s.d), fn(s.B), fn(s.R);
-  fn(s.tensile);
+  fn(s.x), fn(s.v), fn(s.h), fn(s.V), fn(s.volume_rate), fn(s.rho), fn(s.c), fn(s.d);
+  fn(s.B), fn(s.R), fn(s.tensile);
 }
-static_assert(sizeof(SphSnapshot) == 10 * sizeof(std::vector<int>),
+static_assert(sizeof(SphSnapshot) == 11 * sizeof(std::vector<int>),
               "a new snapshot array must be renumbered too (forEachArray)");
 
 }  // namespace

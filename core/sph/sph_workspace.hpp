@@ -47,7 +47,9 @@ struct SphControls {
 /// copy makes the kinematics and the energy bookkeeping centred in time, as the elements' are.
 struct SphSnapshot {
   std::vector<Vec3> x, v;         ///< position x^n, velocity v^{n-1/2}
-  std::vector<double> h, V;       ///< smoothing length and volume used in the forces
+  std::vector<double> h;          ///< smoothing length
+  std::vector<double> V;          ///< volume at t^n weighting the sums and forces (predicted)
+  std::vector<double> volume_rate;  ///< d ln V / dt over the interval ending at t^n, 1/s
   std::vector<double> rho, c, d;  ///< density, wave speed, spacing cbrt(V)
   std::vector<Mat3> B;            ///< first-order gradient correction
   std::vector<Mat3> R;            ///< Monaghan artificial stress (stress units, Pa)
