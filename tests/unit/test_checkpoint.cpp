@@ -263,11 +263,12 @@ TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit
 TEST_CASE("checkpoints of formats 6 to 8 (with scratch arrays) continue bit-identically",
           "[unit][checkpoint]") {
   // Format 6 also stored the pair gradients in the previous configuration, formats 2-7 the
-  // last step's neighbour list and pair gradients, and formats 2-8 the nodal volumes of the
-  // average nodal pressure: scratch, which formats 7, 8 and 9 dropped. The reader must accept
-  // such files and skip those arrays. Here the gradients and volumes are NaN and the list's
-  // indices out of range: a reader that checked them would refuse the file, one that used
-  // them in place of the current ones would not reproduce the unbroken run.
+  // last step's neighbour list and pair gradients, formats 2-8 the nodal volumes of the
+  // average nodal pressure, and formats 2-9 the velocities before the step's corrections:
+  // scratch, which formats 7, 8, 9 and 10 dropped. The reader must accept such files and
+  // skip those arrays. Here the gradients and volumes are NaN and the list's indices out of
+  // range: a reader that checked them would refuse the file, one that used them in place of
+  // the current ones would not reproduce the unbroken run.
   const SplitRun& run = splitRun();
   const Model& first = run.first;
   const std::size_t pairs = first.sph.neighbours.pairs();
@@ -300,6 +301,12 @@ TEST_CASE("checkpoints of formats 6 to 8 (with scratch arrays) continue bit-iden
       for (const char* name : {"nodal_volume", "nodal_volume0"}) {
         REQUIRE(!h5::exists(scratch, name));
         h5::writeArray(scratch, name, H5T_NATIVE_DOUBLE, nan_nodes.data(), nan_nodes.size(), 1);
+      }
+      // formats 2-9 also held the velocities before the corrections: here one NaN vector each,
+      // which a reader that checked their length would refuse
+      for (const char* name : {"v_node_free", "v_particle_free"}) {
+        REQUIRE(!h5::exists(scratch, name));
+        h5::writeArray(scratch, name, H5T_NATIVE_DOUBLE, nan_nodes.data(), 1, 3);
       }
       dropVolumeRate(f);
       h5::writeAttribute(f, "format_version", version);
