@@ -133,6 +133,71 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   fs::remove_all(dir / "rv.csv.tmp");
 }
 
+TEST_CASE("v_k is the largest piece's, taken when it reaches the measuring plane, and "
+          "'through' counts what is past the rear face", "[unit][analysis]") {
+  // Reference: the definitions in plate_crossings.hpp. The shot of the scene above is cut in
+  // two by converting a band of its elements: a small nose piece and a larger tail piece,
+  // with the band's particles between. Placed by hand (no steps), for the first plate (front
+  // z = -5 mm, rear -7 mm, measuring plane -15 mm):
+  // 1. only the nose piece past the measuring plane: nothing is measured (a fragment ahead
+  //    is not the projectile);
+  // 2. the tail piece past it too, the particles inside the plate (z = -6 mm): v_1 is the tail
+  //    piece's velocity, its mass fraction the tail's, and the material through the plate is
+  //    the two pieces' (past the rear face), not the particles'.
+  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_pieces";
+  fs::create_directories(dir);
+  const std::string path = (dir / "scene.toml").string();
+  std::ofstream(path) << kScene;
+  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  Model m = buildModel(sc);
+  PlateCrossings crossings(sc, m);
+  m.controls.conversion.mode = ConversionMode::Sph;
+  const int shot = 0;
+  const Body& b = m.bodies[shot];
+  for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
+    double zc = 0;
+    for (int a : m.elems.conn[e]) zc += 0.25 * m.nodes.x[a].z();
+    if (zc > 2e-3 && zc < 4.5e-3) m.elems.state[e].eps_p = 1.0;
+  }
+  REQUIRE(convertElements(m, 1.3) > 0);
+  const std::vector<Piece> pieces = bodyPieces(m, shot);
+  REQUIRE(pieces.size() == 2);
+  const Piece& tail = pieces[0];  // the largest
+  const Piece& nose = pieces[1];
+  REQUIRE(nose.centroid.z() < tail.centroid.z());
+  const double m0 = bodyInitialMass(m, shot);
+  const auto place = [&](const Piece& piece, double z_lead, const Vec3& v) {
+    double lead = 1.0;
+    for (int a : piece.nodes) lead = std::min(lead, m.nodes.x[a].z());
+    for (int a : piece.nodes) m.nodes.x[a].z() += z_lead - lead, m.nodes.v[a] = v;
+  };
+  const Vec3 v_nose(0, 0, -1500), v_tail(0, 0, -900);
+
+  place(nose, -16e-3, v_nose);
+  place(tail, -4e-3, v_tail);
+  m.time = 10e-6;
+  crossings.update(m);
+  CHECK(crossings.plates()[0].t_contact == 10e-6);  // any node past the front face
+  CHECK(crossings.plates()[0].t_measured < 0);
+
+  place(nose, -30e-3, v_nose);
+  place(tail, -15.5e-3, v_tail);
+  double m_particles = 0;
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    m.particles.x[i].z() = -6e-3, m_particles += m.particles.m[i];
+  REQUIRE(m_particles > 0.05 * m0);
+  m.time = 12e-6;
+  crossings.update(m);
+  const PlateCrossing& p = crossings.plates()[0];
+  CHECK(p.t_measured == 12e-6);
+  CHECK(p.velocity.z() == Approx(-900.0).epsilon(1e-12));
+  CHECK(p.mass_fraction == Approx(tail.mass / m0).epsilon(1e-12));
+  const double through = (tail.mass + nose.mass) / m0;
+  CHECK(p.through_mass_fraction == Approx(through).epsilon(1e-12));
+  CHECK(p.through_velocity.z() ==
+        Approx(-(900 * tail.mass + 1500 * nose.mass) / (tail.mass + nose.mass)).epsilon(1e-12));
+}
+
 TEST_CASE("material past a plate counts the live nodes and the particles of the body",
           "[unit][analysis]") {
   Model m = shotWithFrontHalfConverted("fesph_crossings_past");
