@@ -36,7 +36,7 @@ bool has(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-TEST_CASE("fesph run and render: a scene named from its own folder; times given wrong", "[app]") {
+TEST_CASE("fesph run and render: a scene named from its own folder, and times given wrong", "[app]") {
   const TempFolder dir("command_line");
   fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml", dir.path / "scene.toml");
 

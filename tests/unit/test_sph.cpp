@@ -721,7 +721,7 @@ TEST_CASE("sph particle contact: compression only, momentum kept", "[unit][sph]"
   }
 }
 
-TEST_CASE("sph failed particles do not dilate past 0.9 rho0; intact ones follow continuity",
+TEST_CASE("sph failed particles do not dilate past 0.9 rho0, intact ones follow continuity",
           "[unit][sph]") {
   // Reference: continuity, rho' = -rho div v. A free block in uniform expansion v = a x0
   // keeps its velocities, x = x0 (1 + a t), so an intact block's density falls as rho0 /
