@@ -125,6 +125,51 @@ TEST_CASE("hole metrics: half model, hole on the symmetry edge", "[unit][analysi
   }
 }
 
+TEST_CASE("hole metrics: a mirrored hole off the plane is not on the symmetry plane",
+          "[unit][analysis]") {
+  // Reference: HoleOptions / Hole (hole_metrics.hpp): on_symmetry marks a hole the symmetry
+  // plane cuts, i.e. one with raster cells on both sides of it. The half model of the test
+  // above with a second hole, 3 mm across y = 10 mm: mirrored, it and its image are two
+  // holes on one side each.
+  const HolePlate p = holePlate(-30, 0, 60, 20, 3, {{0, 0, 6}, {15, 10, 3}}, true);
+  HoleOptions o;
+  o.mirror = true;
+  o.symmetry_axis = 1;
+  const PlateHoles h = findHoles(p.mesh.nodes, p.live, o);
+  REQUIRE(h.holes.size() == 3);
+  for (const Hole& hole : h.holes) {
+    INFO("hole at y = " << hole.centroid.y() * 1e3 << " mm");
+    CHECK(hole.on_symmetry == (std::abs(hole.centroid.y()) < 1e-3));
+  }
+}
+
+TEST_CASE("hole metrics: the raster never exceeds max_cells, and openings under four cells "
+          "are left out", "[unit][analysis]") {
+  // Reference: HoleOptions (hole_metrics.hpp). (1) A 40 x 40 mm plate of 1 mm cubes takes
+  // a quarter-millimetre cell by default, 25,600 cells over its extent; with max_cells = 500
+  // the cell grows by sqrt(25600 / 500) so that the extent holds 500 cells (1e-9). (2) One
+  // removed 1 mm column (1 mm^2) with 1.1 mm cells is one cell, under four (4.84 mm^2): left
+  // out by default, found with min_area = 0.5 mm^2.
+  const HolePlate plate = holePlate(-20, -20, 40, 40, 2, {{0, 0, 7}});
+  HoleOptions capped;
+  capped.max_cells = 500;
+  const PlateHoles h = findHoles(plate.mesh.nodes, plate.live, capped);
+  CHECK(h.cell_size == Approx(0.25e-3 * std::sqrt(25600.0 / 500.0)).epsilon(1e-9));
+  CHECK((h.u_max - h.u_min) * (h.v_max - h.v_min) / (h.cell_size * h.cell_size) ==
+        Approx(500.0).epsilon(1e-9));
+  REQUIRE(h.holes.size() == 1);  // the 14 mm hole, still found at 1.8 mm cells
+
+  const HolePlate pin = holePlate(-20, -20, 40, 40, 2, {{0.5, 0.5, 0.4}});
+  REQUIRE(pin.true_area[0] == Approx(1e-6).epsilon(1e-12));  // one column
+  HoleOptions coarse;
+  coarse.cell_size = 1.1e-3;
+  CHECK(findHoles(pin.mesh.nodes, pin.live, coarse).holes.empty());
+  coarse.min_area = 0.5e-6;
+  const PlateHoles found = findHoles(pin.mesh.nodes, pin.live, coarse);
+  REQUIRE(found.holes.size() == 1);
+  CHECK(found.holes[0].area == Approx(1.21e-6).epsilon(1e-9));  // the one cell
+}
+
 TEST_CASE("hole metrics: no hole, and a loose plug does not close a hole", "[unit][analysis]") {
   SECTION("intact plate") {
     const HolePlate p = holePlate(-20, -20, 40, 40, 2, {});
