@@ -58,15 +58,19 @@ mesh_size = 5e-3
 coarse_size = 5e-3
 )";
 
-/// The scene above (written to a folder of that name under the temporary directory) with the
-/// elements of the shot's front half (nose at z = 1 mm, tail at 7 mm) converted to particles.
-Model shotWithFrontHalfConverted(const char* folder) {
+/// The scene above, written to a folder of that name under the temporary directory and read.
+Scene crossingsScene(const char* folder) {
   const fs::path dir = fs::temp_directory_path() / folder;
   fs::create_directories(dir);
   const std::string path = (dir / "scene.toml").string();
   std::ofstream(path) << kScene;
-  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
-  Model m = buildModel(sc);
+  return loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+}
+
+/// The scene above (crossingsScene) with the elements of the shot's front half (nose at
+/// z = 1 mm, tail at 7 mm) converted to particles.
+Model shotWithFrontHalfConverted(const char* folder) {
+  Model m = buildModel(crossingsScene(folder));
   m.controls.conversion.mode = ConversionMode::Sph;
   const Body& b = m.bodies[0];
   for (std::size_t e = b.elem_begin; e < b.elem_end; ++e) {
@@ -82,10 +86,7 @@ Model shotWithFrontHalfConverted(const char* folder) {
 
 TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[unit][analysis]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_crossings";
-  fs::create_directories(dir);
-  const std::string path = (dir / "scene.toml").string();
-  std::ofstream(path) << kScene;
-  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  const Scene sc = crossingsScene("fesph_crossings");
   Model m = buildModel(sc);
   PlateCrossings crossings(sc, m);
   REQUIRE(crossings.plates().size() == 2);
@@ -144,11 +145,7 @@ TEST_CASE("v_k is the largest piece's, taken when it reaches the measuring plane
   // 2. the tail piece past it too, the particles inside the plate (z = -6 mm): v_1 is the tail
   //    piece's velocity, its mass fraction the tail's, and the material through the plate is
   //    the two pieces' (past the rear face), not the particles'.
-  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_pieces";
-  fs::create_directories(dir);
-  const std::string path = (dir / "scene.toml").string();
-  std::ofstream(path) << kScene;
-  const Scene sc = loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  const Scene sc = crossingsScene("fesph_crossings_pieces");
   Model m = buildModel(sc);
   PlateCrossings crossings(sc, m);
   m.controls.conversion.mode = ConversionMode::Sph;
