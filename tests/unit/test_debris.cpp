@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -69,6 +70,13 @@ TEST_CASE("debris: the link distance decides, and bodies never link", "[unit][an
   };
   REQUIRE(pair(2.99 * r, 0) == 1);
   REQUIRE(pair(3.01 * r, 0) == 2);
+  // Exactly at the link distance (the "<=" of the definition): with r a power of two the gap
+  // 3 r and the reach 1.5 (r + r) are the same double, and so are their squares.
+  const double r2 = std::ldexp(1.0, -10);
+  std::vector<DebrisParticle> touching;
+  addLattice(touching, Vec3(0, 0, 0), 1, r2, Vec3::Zero(), 0);
+  addLattice(touching, Vec3(3 * r2, 0, 0), 1, r2, Vec3::Zero(), 0);
+  REQUIRE(findClumps(touching).size() == 1);
   REQUIRE(pair(2.0 * r, 1) == 2);  // touching, but of different plates
   // A chain linked end to end across many grid cells is one clump.
   std::vector<DebrisParticle> chain;
@@ -97,6 +105,14 @@ TEST_CASE("debris: a clump on a half model's plane stands for twice its mass",
   REQUIRE(c[0].full_mass == Approx(2 * c[0].mass).epsilon(1e-15));
   REQUIRE_FALSE(c[1].on_plane);
   REQUIRE(findClumps(p).front().on_plane == false);  // a full model has no plane
+  // A particle links with its own mirror image when 2 |y| <= link (r + r), i.e. |y| <= 1.5 r:
+  // a layer 1.4 r off the plane is cut by it, one 1.6 r off is not.
+  for (const double y : {1.4, 1.6}) {
+    std::vector<DebrisParticle> q;
+    addLattice(q, Vec3(0, y * r, 0), 2, r, Vec3::Zero(), 0);
+    INFO("first layer " << y << " r off the plane");
+    REQUIRE(findClumps(q, half).front().on_plane == (y < 1.5));
+  }
 }
 
 TEST_CASE("debris: straight-line strikes on plates", "[unit][analysis]") {
@@ -135,6 +151,13 @@ TEST_CASE("debris: straight-line strikes on plates", "[unit][analysis]") {
   s = predictStrike(c, plates);
   REQUIRE(s.plate == 1);
   REQUIRE(s.point.x() == Approx(0.01 + 0.35).epsilon(1e-13));
+  // The same sideways in y, along the plate's other in-plane axis v.
+  c.velocity = Vec3(0, 300, -400);
+  REQUIRE(predictStrike(c, plates).plate == -1);
+  c.velocity = Vec3(0, 200, -400);
+  s = predictStrike(c, plates);
+  REQUIRE(s.plate == 1);
+  REQUIRE(s.point.y() == Approx(0.35).epsilon(1e-13));
   // Moving away, or behind every plate: no strike.
   c.velocity = Vec3(0, 0, 400);
   REQUIRE(predictStrike(c, plates).plate == -1);
@@ -168,4 +191,37 @@ TEST_CASE("debris: the CSV lists clumps of at least two particles with their str
   REQUIRE(row.rfind("0.001,plate_1,1,8,0.008,0.008,100,", 0) == 0);
   // strikes plate_2 (front face z = 0) after (0.1 + r) / 100 s
   REQUIRE(row.find(",plate_2,0.00101,0.00201,") != std::string::npos);
+}
+
+TEST_CASE("debris: the CSV numbers clumps per body, lists pairs, and names unknown bodies",
+          "[unit][analysis]") {
+  // Reference: the table's rules. Rows largest clump first (equal masses in the order of their
+  // first particle); the clump column counts within each body; a pair is a clump of two, the
+  // least the table lists by default; a body index beyond the names is written "body<index>".
+  const double r = 1e-3;
+  std::vector<DebrisParticle> p;
+  addLattice(p, Vec3(0, 0, 0.1), 2, r, Vec3(0, 0, -100), 0);
+  addLattice(p, Vec3(0.1, 0, 0.1), 1, r, Vec3(0, 0, -100), 0);  // a pair of plate_1
+  addLattice(p, Vec3(0.1 + 2 * r, 0, 0.1), 1, r, Vec3(0, 0, -100), 0);
+  addLattice(p, Vec3(0.2, 0, 0.1), 2, r, Vec3(0, 0, -100), 1);
+  addLattice(p, Vec3(0.3, 0, 0.1), 1, r, Vec3(0, 0, -100), 7);  // a pair of body 7
+  addLattice(p, Vec3(0.3 + 2 * r, 0, 0.1), 1, r, Vec3(0, 0, -100), 7);
+  addLattice(p, Vec3(0.4, 0, 0.1), 1, r, Vec3(0, 0, -100), 1);  // spray: not listed
+  testing::TempFolder dir("debris_ranks");
+  const std::string path = (dir.path / "debris.csv").string();
+  const DebrisSummary summary =
+      writeDebrisCsv(path, 0.0, findClumps(p), {}, {"plate_1", "plate_2"});
+  CHECK(summary.clumps == 4);
+  CHECK(summary.strikes == 0);
+  std::ifstream in(path);
+  std::string line;
+  REQUIRE(std::getline(in, line));  // the header
+  std::vector<std::string> starts;
+  while (std::getline(in, line)) {  // time, body, clump, particles
+    std::size_t end = 0;
+    for (int field = 0; field < 4; ++field) end = line.find(',', end + 1);
+    starts.push_back(line.substr(0, end));
+  }
+  REQUIRE(starts == std::vector<std::string>{"0,plate_1,1,8", "0,plate_2,1,8", "0,plate_1,2,2",
+                                             "0,body7,1,2"});
 }

@@ -7,6 +7,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace fesph;
 
 TEST_CASE("a body cut in two by erosion has two pieces", "[unit][analysis]") {
@@ -31,6 +34,11 @@ TEST_CASE("a body cut in two by erosion has two pieces", "[unit][analysis]") {
   REQUIRE(r.speed == Approx(100.0).epsilon(1e-12));
   REQUIRE(r.mass_fraction == Approx(0.6).epsilon(1e-12));
   REQUIRE(r.cleared);  // no other body
+  // The fraction is of the body's mass at the start, rho0 V0: compressing the bar changes
+  // its elements' volumes, not its mass.
+  for (double& V : m.elems.V) V *= 0.8;
+  REQUIRE(bodyInitialMass(m, 0) == Approx(mass).epsilon(1e-12));
+  REQUIRE(residualVelocity(m, 0).mass_fraction == Approx(0.6).epsilon(1e-12));
 }
 
 TEST_CASE("a projectile has cleared a plate only when its trailing node is past it",
@@ -52,4 +60,32 @@ TEST_CASE("a projectile has cleared a plate only when its trailing node is past 
   };
   REQUIRE_FALSE(residualVelocity(scene(1e-3), 0).cleared);
   REQUIRE(residualVelocity(scene(-5e-3), 0).cleared);
+
+  // Past means strictly past: a trailing face on the plane of the plate's rear face (z = -1 mm
+  // exactly) has not cleared it; the next double beyond has.
+  Model m = scene(-5e-3);
+  const Body& projectile = m.bodies[0];
+  double top = -1;
+  for (std::size_t a = projectile.node_begin; a < projectile.node_end; ++a)
+    top = std::max(top, m.nodes.x[a].z());
+  for (std::size_t a = projectile.node_begin; a < projectile.node_end; ++a)
+    if (m.nodes.x[a].z() == top) m.nodes.x[a].z() = -1e-3;
+  REQUIRE_FALSE(residualVelocity(m, 0).cleared);
+  for (std::size_t a = projectile.node_begin; a < projectile.node_end; ++a)
+    if (m.nodes.x[a].z() == -1e-3) m.nodes.x[a].z() = std::nextafter(-1e-3, -1.0);
+  REQUIRE(residualVelocity(m, 0).cleared);
+
+  // A node of no live element is no part of the plate, wherever it went: the plate's elements
+  // at its corner (x, y, z) = (-5, -5, -1) mm eroded, the node (mass 0 now) far below.
+  const Body& plate = m.bodies[1];
+  std::size_t corner = plate.node_begin;
+  for (std::size_t a = plate.node_begin; a < plate.node_end; ++a)
+    if ((m.nodes.x0[a] - Vec3(-5e-3, -5e-3, -1e-3)).norm() < 1e-12) corner = a;
+  for (std::size_t e = plate.elem_begin; e < plate.elem_end; ++e)
+    for (int a : m.elems.conn[e])
+      if (static_cast<std::size_t>(a) == corner && m.elems.status[e] == ElemStatus::Live)
+        erodeElement(m, e, Trigger::PlasticStrain);
+  REQUIRE(m.nodes.m[corner] == 0);
+  m.nodes.x[corner].z() = -50e-3;
+  REQUIRE(residualVelocity(m, 0).cleared);
 }

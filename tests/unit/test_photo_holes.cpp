@@ -125,6 +125,55 @@ TEST_CASE("photograph holes: count, areas and diameters of a known hole map", "[
   }
 }
 
+TEST_CASE("photograph holes: exact pixel counts of dark squares at a fixed threshold",
+          "[unit][analysis]") {
+  // Reference: the 3x3 binomial smoothing worked by hand. A 60 x 40 plate at 0.3 with dark
+  // (0) squares: A 10 x 10 inside, B and C 10 x 10 on the top and bottom edges, D 4 x 4
+  // inside. Smoothed, a pixel just inside a square's side keeps 4/16 of the plate's level
+  // (0.075), one just outside it 12/16 (0.225), one diagonally outside a corner 15/16
+  // (0.281), the plate away from the squares 16/16 (0.3). So at 0.15 a square is exactly its
+  // pixels; at 0.27 it gains the row beside each side but not the corners (A: 100 + 40).
+  // B and C touch the border: never holes. D (16 pixels) is under the default 25.
+  GrayImage img{60, 40, std::vector<float>(60 * 40, 0.3f)};
+  const auto square = [&](int i0, int j0, int n) {
+    for (int j = j0; j < j0 + n; ++j)
+      for (int i = i0; i < i0 + n; ++i) img.value[static_cast<std::size_t>(j) * 60 + i] = 0.0f;
+  };
+  square(10, 15, 10);  // A
+  square(30, 0, 10);   // B, on the top edge
+  square(45, 30, 10);  // C, on the bottom edge
+  square(30, 18, 4);   // D
+  SegmentOptions o;
+  o.threshold = 0.15;
+  PhotoSegmentation seg = segmentHoles(img, o);
+  REQUIRE(seg.holes.size() == 1);
+  CHECK(seg.holes[0].area_px == 100);
+  CHECK(seg.holes[0].centroid_px == Eigen::Vector2d(15.0, 20.0));  // pixel centres at i + 0.5
+  std::size_t masked = 0;
+  for (auto m : seg.mask) masked += m;
+  CHECK(masked == 100);
+  o.min_area_px = 16;  // D is kept from 16 pixels on
+  seg = segmentHoles(img, o);
+  REQUIRE(seg.holes.size() == 2);
+  CHECK(seg.holes[1].area_px == 16);
+  CHECK(seg.holes[1].centroid_px == Eigen::Vector2d(32.0, 20.0));
+  o.min_area_px = 17;
+  CHECK(segmentHoles(img, o).holes.size() == 1);
+  o.min_area_px = 0;
+  o.threshold = 0.27;
+  seg = segmentHoles(img, o);
+  REQUIRE(seg.holes.size() == 2);
+  CHECK(seg.holes[0].area_px == 140);
+  CHECK(seg.holes[1].area_px == 32);  // 16 + 4 x 4: now over the default 25
+  // Bright holes (a plate lit from behind): the negative image gives the same holes.
+  for (float& v : img.value) v = 1.0f - v;
+  o.dark_holes = false;
+  o.threshold = 1 - 0.27;
+  seg = segmentHoles(img, o);
+  REQUIRE(seg.holes.size() == 2);
+  CHECK(seg.holes[0].area_px == 140);
+}
+
 TEST_CASE("photograph holes: the threshold override is used", "[unit][analysis]") {
   const KnownPlate plate = knownPlate(kHoles);
   const GrayImage photo = photograph(plate, 800, 800, 0.1, {400.0, 400.0});
@@ -136,6 +185,36 @@ TEST_CASE("photograph holes: the threshold override is used", "[unit][analysis]"
   CHECK(seg.holes.empty());
   o.threshold = 1.5;
   CHECK_THROWS_AS(segmentHoles(photo, o), std::invalid_argument);
+  for (const double t : {0.0, 1.0}) {  // (0, 1) is open: either end would make all one class
+    o.threshold = t;
+    CHECK_THROWS_AS(segmentHoles(photo, o), std::invalid_argument);
+  }
+}
+
+TEST_CASE("simulated plate: a half plate mirrored off the origin spans the whole plate",
+          "[unit][analysis]") {
+  // Reference: the mirror image. A 40 x 30 mm half plate, y from 5 to 35 mm, mirrored on the
+  // plane y = 5 mm is the 40 x 60 mm plate centred on (0, 5) mm; unmirrored it is its half.
+  const TetMesh mesh = structuredBox(Vec3(-20 * mm, 5 * mm, -2 * mm), Vec3(40 * mm, 30 * mm, 2 * mm), 8, 6, 1);
+  HoleOptions options;
+  options.normal = Vec3::UnitZ();
+  options.mirror = true;
+  options.symmetry_axis = 1;
+  options.symmetry_position = 5 * mm;
+  for (const bool mirror : {true, false}) {
+    options.mirror = mirror;
+    INFO((mirror ? "mirrored" : "as meshed"));
+    const SimulatedPlate plate = simulatedPlate(mesh.nodes, mesh.tets, options);
+    const PlateHoles& h = plate.holes;
+    // the extent along x and along y, whichever in-plane axis each is
+    const Vec3 centre(0, mirror ? 5 * mm : 20 * mm, -1 * mm);
+    const Eigen::Vector2d expected_centre((centre - h.origin).dot(h.u), (centre - h.origin).dot(h.v));
+    CHECK((plate.centre - expected_centre).norm() < 1e-12);
+    const double along_x = std::abs(h.u.x()) > 0.5 ? plate.half_size.x() : plate.half_size.y();
+    const double along_y = std::abs(h.u.x()) > 0.5 ? plate.half_size.y() : plate.half_size.x();
+    CHECK(along_x == Approx(20 * mm).epsilon(1e-12));
+    CHECK(along_y == Approx(mirror ? 30 * mm : 15 * mm).epsilon(1e-12));
+  }
 }
 
 TEST_CASE("photograph vs simulated hole map: IoU for the matching and a shifted map",
@@ -168,7 +247,14 @@ TEST_CASE("photograph vs simulated hole map: IoU for the matching and a shifted 
     o.m_per_px = 0.1 * mm;
     o.centre_px = centre;
     o.rear = true;
-    CHECK(compareHoles(seg, matching, o).iou >= 0.9);
+    const HoleComparison rear = compareHoles(seg, matching, o);
+    CHECK(rear.iou >= 0.9);
+    // The photograph's holes in plate coordinates: mirrored back (0.1 mm, a pixel).
+    REQUIRE(rear.photo.size() == 2);
+    for (int k = 0; k < 2; ++k) {
+      CHECK(std::abs(rear.photo[k].centroid.x() - kHoles[k].x * mm) < 0.1 * mm);
+      CHECK(std::abs(rear.photo[k].centroid.y() - kHoles[k].y * mm) < 0.1 * mm);
+    }
     o.rear = false;  // taken for the front face, the holes land mirrored
     CHECK(compareHoles(seg, matching, o).iou < 0.5);
   }
@@ -215,6 +301,14 @@ TEST_CASE("polygon fill takes the pixels whose centre is inside", "[unit][analys
   CHECK(mask[1 * 8 + 1] == 1);
   CHECK(mask[0 * 8 + 1] == 0);
   CHECK(mask[1 * 8 + 5] == 0);
+  // Edges off the pixel grid: y from 1.2 to 4.7 takes the rows whose centres 1.5 ... 4.5 it
+  // spans (1 to 4), x from 0.4 to 3.4 the columns whose centres 0.5 ... 2.5 it spans (0 to 2).
+  const auto off = fillPolygons({{{0.4, 1.2}, {3.4, 1.2}, {3.4, 4.7}, {0.4, 4.7}}}, 8, 6);
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 8; ++i) {
+      INFO("pixel " << i << ", " << j);
+      CHECK(off[static_cast<std::size_t>(j) * 8 + i] == (j >= 1 && j <= 4 && i <= 2));
+    }
   const auto tri = fillPolygons({{{0, 0}, {200, 0}, {0, 100}}}, 200, 100);
   n = 0;
   for (auto m : tri) n += m;
