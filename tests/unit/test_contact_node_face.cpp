@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 using namespace fesph;
@@ -145,6 +146,42 @@ TEST_CASE("a node that starts deep behind a face is not snapped through it", "[u
   loose.depth_tolerance = 0.6;
   enforceNodeFaceContact(c, kDt, loose);
   REQUIRE(c.nodes.v[apexNode(c)] != m.nodes.v[apexNode(m)]);
+}
+
+TEST_CASE("a node crossing the top face by a cube's edge is held by the top, not the side",
+          "[unit][contact]") {
+  // Reference: the face a node moves into fastest is the one it crosses. The apex, 18 um
+  // above the top and 10 um inside the side x = 1 mm, moves by (-10, 0, -20) um in the step:
+  // it crosses the top (approach 20 um, predicted depth 2 um), and only grazes the side's
+  // plane (approach 10 um, depth 10 um from where it started). One pass (alpha = 1) must
+  // close the top's penetration along z alone: the x velocity keeps its bits.
+  const Model m = apexOverCube(0.99e-3, 0.5e-3, 1.018e-3, Vec3(-5, 0, -10));
+  const double gap0 = predictedGap(m);
+  REQUIRE(gap0 == Approx(-2e-6).epsilon(1e-6));
+  Model c = m;
+  enforceNodeFaceContact(c, kDt, ContactControls{1, 0.0});
+  CHECK(c.nodes.v[apexNode(c)].x() == -5.0);
+  CHECK(std::abs(predictedGap(c)) < 1e-9 * std::abs(gap0));
+}
+
+TEST_CASE("a node deep behind a tilted face, inside its box, is not snapped through it",
+          "[unit][contact]") {
+  // Reference: as above, turned 50 degrees about (1, 1, 0): the cube's faces lie oblique to
+  // the axes, so the broad phase's axis-aligned boxes (widened by 0.2 of the longest edge)
+  // hold the apex, 0.5 mm inside the cube, and only the narrow phase's test of the side the
+  // node started on (more than the tolerance behind every face) keeps it where it is.
+  Model m = apexOverCube(0.4e-3, 0.3e-3, 0.5e-3, Vec3(0, 0, -10));
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(50.0 * M_PI / 180.0, Vec3(1, 1, 0).normalized())
+                                .toRotationMatrix();
+  for (std::size_t a = 0; a < m.nodes.size(); ++a) {
+    m.nodes.x[a] = R * m.nodes.x[a];
+    m.nodes.x0[a] = R * m.nodes.x0[a];
+    m.nodes.v[a] = R * m.nodes.v[a];
+  }
+  buildSurfaces(m);
+  Model c = m;
+  enforceNodeFaceContact(c, kDt, ContactControls{});
+  REQUIRE(c.nodes.v == m.nodes.v);
 }
 
 TEST_CASE("held master nodes stop a node alone", "[unit][contact]") {

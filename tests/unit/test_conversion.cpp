@@ -52,6 +52,32 @@ std::size_t centreElement(const Model& m) {
   return best;
 }
 
+/// A resting 3 mm box of one cell (6 tets) and `n` particles (0.2 mm cubes' volume, mass 3M
+/// each, at rest) at the centroid of one of its top faces, `height` contact radii above it
+/// (negative: behind it); that face's nodes have mass M. `face` receives its nodes.
+Model particlesOverTopFace(int n, double height, double M, std::array<int, 3>& face) {
+  const double mm = 1e-3, s = 0.2 * mm;
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3 * mm, 3 * mm, 3 * mm), 1, 1, 1);
+  const auto& faces = m.surfaces.exterior;
+  const auto top = std::find_if(faces.begin(), faces.end(), [&](const ExteriorFace& f) {
+    return std::all_of(f.node.begin(), f.node.end(),
+                       [&](int a) { return m.nodes.x[a].z() == 3 * mm; });
+  });
+  REQUIRE(top != faces.end());
+  face = top->node;
+  Vec3 centroid = Vec3::Zero();
+  for (int a : face) centroid += m.nodes.x[a] / 3.0;
+  const Vec3 start = centroid + Vec3(0, 0, height * kParticleContactRadius * s);
+  addParticleBody(m, "particles", std::vector<Vec3>(n, start),
+                  std::vector<double>(n, s * s * s), 0, Vec3::Zero(), true);
+  finaliseModel(m);
+  for (int a : face) m.nodes.m[a] = M;
+  for (Vec3& v : m.nodes.v) v = Vec3::Zero();
+  for (double& mp : m.particles.m) mp = 3 * M;
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("a single conversion conserves mass and momentum and keeps the element's state",
@@ -373,24 +399,9 @@ TEST_CASE("the particle-face passes relax as alpha_k = 1/sqrt(N - k + 1)",
   // 1)/4 m/s: particle 2 is pushed in the first pass only, and recedes after the second
   // (alpha = 1 in both passes gives -1, -1, -1). Tolerance 1e-12: the depths are gaps taken
   // from positions 3 mm from the origin over motions of 10-20 um (round-off ~1e-14).
-  const double mm = 1e-3, dt = 1e-5, M = 1e-6, s = 0.2 * mm;
-  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
-                                     Vec3(3 * mm, 3 * mm, 3 * mm), 1, 1, 1);
-  const auto& faces = m.surfaces.exterior;
-  const auto top = std::find_if(faces.begin(), faces.end(), [&](const ExteriorFace& f) {
-    return std::all_of(f.node.begin(), f.node.end(),
-                       [&](int a) { return m.nodes.x[a].z() == 3 * mm; });
-  });
-  REQUIRE(top != faces.end());
-  const std::array<int, 3> face = top->node;
-  Vec3 centroid = Vec3::Zero();
-  for (int a : face) centroid += m.nodes.x[a] / 3.0;
-  const Vec3 start = centroid + Vec3(0, 0, kParticleContactRadius * s);  // at its radius
-  addParticleBody(m, "particles", {start, start}, {s * s * s, s * s * s}, 0, Vec3::Zero(), true);
-  finaliseModel(m);
-  for (int a : face) m.nodes.m[a] = M;
-  for (Vec3& v : m.nodes.v) v = Vec3::Zero();
-  m.particles.m[0] = m.particles.m[1] = 3 * M;
+  const double dt = 1e-5, M = 1e-6;
+  std::array<int, 3> face;
+  Model m = particlesOverTopFace(2, 1.0, M, face);
   m.particles.v[0] = Vec3(0, 0, -2.0);
   m.particles.v[1] = Vec3(0, 0, -1.0);
   enforceParticleFaceContact(m, dt, 2);
@@ -402,6 +413,22 @@ TEST_CASE("the particle-face passes relax as alpha_k = 1/sqrt(N - k + 1)",
   CHECK(w2 == Approx(-1 + (root2 - 1) / 4).epsilon(1e-12));
   for (int a : face) CHECK(m.nodes.v[a].z() == Approx(-1 - (root2 - 1) / 8).epsilon(1e-12));
   CHECK(3 * M * (w1 + w2) + 3 * M * u == Approx(-9 * M).epsilon(1e-12));  // momentum
+}
+
+TEST_CASE("a particle that starts behind a face's plane is kept from going deeper",
+          "[unit][conversion][contact]") {
+  // Reference: docs/design.md, particle-face contact: a particle that starts a step inside its
+  // radius is only kept from coming closer. One particle (mass 3M) half its contact radius
+  // behind a top face of a box (nodes of mass M) approaches it at 1 m/s; one pass (alpha = 1)
+  // is the 1-D exchange of the test above, w -= (w - u) / 2, u += (w - u) / 2: both end at
+  // -0.5 m/s (1e-12), where it neither goes deeper nor is thrown out.
+  const double dt = 1e-5, M = 1e-6;
+  std::array<int, 3> face;
+  Model m = particlesOverTopFace(1, -0.5, M, face);
+  m.particles.v[0] = Vec3(0, 0, -1.0);
+  enforceParticleFaceContact(m, dt, 1);
+  CHECK(m.particles.v[0].z() == Approx(-0.5).epsilon(1e-12));
+  for (int a : face) CHECK(m.nodes.v[a].z() == Approx(-0.5).epsilon(1e-12));
 }
 
 TEST_CASE("the tie passes relax as alpha_k = 1/sqrt(N - k + 1)", "[unit][conversion][ties]") {

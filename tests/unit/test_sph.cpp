@@ -279,6 +279,10 @@ TEST_CASE("sph Verlet neighbour list equals a fresh search as particles drift an
   const int calls = 30;
   for (int k = 0; k < calls; ++k) {
     if (k == 20) c.x[5] += Vec3(2.0 * c.h[5], 0, 0);
+    // The bodies relabelled in place (same count, nobody moved): pairs are within a body, so
+    // the list must follow the new labels.
+    if (k == 10)
+      for (std::size_t i = 0; i < c.body.size(); i += 4) c.body[i] = 1 - c.body[i];
     requireVerletIsFresh(search, c.x, c.h, c.body, k, verlet, fresh);
     for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i], c.h[i] *= 1.005;
   }
@@ -398,6 +402,74 @@ TEST_CASE("sph mirror rows through Verlet lists equal a fresh search", "[unit][s
   CHECK(search.mirrorVerletBuilds() < 4 * calls / 3);
 }
 
+TEST_CASE("sph mirror rows through Verlet lists: a body moving off the plane", "[unit][sph]") {
+  // A body's motion across the plane is no common translation: it changes the distances to
+  // the images (twice the motion). Body 0 of a cloud on the positive side of y = 0 moves off
+  // the plane by 0.05 h per call, under its margin of 0.15 h per call but past it in four;
+  // reference: mirrorRows afresh at every call (exact equality).
+  DriftingCloud c = driftingCloud(21, Vec3::Zero());
+  for (Vec3& p : c.x) p = p.cwiseAbs();
+  Reflection y_plane;
+  y_plane.flip[1] = true;
+  NeighbourSearch search;
+  for (int k = 0; k < 10; ++k) {
+    NeighbourList verlet, fresh;
+    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, true, 0, 0.3, verlet);
+    search.mirrorRows(c.x, c.h, c.body, y_plane, true, fresh);
+    INFO("call " << k << ": " << fresh.pairs() << " pairs");
+    REQUIRE(fresh.pairs() > 0);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+    for (std::size_t i = 0; i < c.x.size(); ++i)
+      if (c.body[i] == 0) c.x[i].y() += 0.05 * c.h[i];
+  }
+  CHECK(search.mirrorVerletBuilds() > 1);
+}
+
+TEST_CASE("sph mirror rows through a Verlet list: points appended into a body flying along "
+          "the plane, and points far from it jumping about", "[unit][sph]") {
+  // Body 0 of a cloud on the positive side of y = 0 flies along z at 0.2 h per call, exactly
+  // (its translation: no drift of its own); body 1 stays, but its points more than 2.5 mm off
+  // the plane jump by h to and fro (past their margin, yet never within the 0.8 mm the rows
+  // search). At call 6 points are appended near the plane into both bodies, 1.2 h of flight
+  // after the build. Reference: mirrorRows afresh at every call (exact equality); built once:
+  // the far points' jumps and the appended points need no build.
+  DriftingCloud c = driftingCloud(23, Vec3::Zero());
+  for (Vec3& p : c.x) p = p.cwiseAbs();
+  const double h = c.h[0];
+  const Vec3 flight(0, 0, 0.2 * h);
+  for (std::size_t i = 0; i < c.x.size(); ++i) c.drift[i] = c.body[i] == 0 ? flight : Vec3::Zero();
+  Reflection y_plane;
+  y_plane.flip[1] = true;
+  NeighbourSearch search;
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(0.0, 3e-3);
+  std::size_t jumpers = 0;
+  for (int k = 0; k < 12; ++k) {
+    if (k == 6)
+      for (int b = 0; b < 6; ++b) {
+        c.x.emplace_back(u(rng), 0.1 * u(rng), u(rng));
+        c.h.push_back(h);
+        c.body.push_back(b % 2);
+        c.drift.push_back(b % 2 == 0 ? flight : Vec3::Zero());
+      }
+    NeighbourList verlet, fresh;
+    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, true, 0, 0.3, verlet);
+    search.mirrorRows(c.x, c.h, c.body, y_plane, true, fresh);
+    INFO("call " << k << ": " << fresh.pairs() << " pairs");
+    REQUIRE(fresh.pairs() > 0);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+    jumpers = 0;
+    for (std::size_t i = 0; i < c.x.size(); ++i) {
+      c.x[i] += c.drift[i];
+      if (c.body[i] == 1 && c.x[i].y() > 2.5e-3) c.x[i].x() += (k % 2 == 0 ? h : -h), ++jumpers;
+    }
+  }
+  CHECK(jumpers > 50);
+  CHECK(search.mirrorVerletBuilds() == 1);
+}
+
 TEST_CASE("sph mirror rows through Verlet lists pair points appended near the plane",
           "[unit][sph]") {
   // A cloud at rest on the positive side of y = 0 gains 6 points a call within 0.3 mm of the
@@ -435,6 +507,36 @@ TEST_CASE("sph mirror rows through Verlet lists pair points appended near the pl
   }
   CHECK(pairs_of_new > 50);
   CHECK(search.mirrorVerletBuilds() == 2);
+  // A point appended wider than any built one may reach beyond the band the appending pairs
+  // with: both lists are built again.
+  c.x.emplace_back(1.5e-3, 0.1e-3, 1.5e-3);
+  c.h.push_back(0.9e-3);
+  c.body.push_back(0);
+  for (bool same_body : {true, false}) {
+    NeighbourList verlet, fresh;
+    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, same_body, 0, same_body ? 0.3 : 2.0, verlet);
+    search.mirrorRows(c.x, c.h, c.body, y_plane, same_body, fresh);
+    INFO("a wide point appended, same body " << same_body);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+  }
+  CHECK(search.mirrorVerletBuilds() == 4);
+  // Points appended on the other side of the plane end the one-side condition the appending
+  // relies on: both lists are built again, and still equal mirrorRows.
+  for (int b = 0; b < 6; ++b) {
+    c.x.emplace_back(u(rng), -0.1 * u(rng), u(rng));
+    c.h.push_back(0.38e-3);
+    c.body.push_back(b % 2);
+  }
+  for (bool same_body : {true, false}) {
+    NeighbourList verlet, fresh;
+    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, same_body, 0, same_body ? 0.3 : 2.0, verlet);
+    search.mirrorRows(c.x, c.h, c.body, y_plane, same_body, fresh);
+    INFO("points on both sides, same body " << same_body);
+    REQUIRE(verlet.offset == fresh.offset);
+    REQUIRE(verlet.index == fresh.index);
+  }
+  CHECK(search.mirrorVerletBuilds() == 6);
 }
 
 TEST_CASE("sph mirror rows through a Verlet list with points on both sides of the plane",
