@@ -71,6 +71,34 @@ void requireVerletIsFresh(NeighbourSearch& search, const std::vector<Vec3>& x,
   REQUIRE(verlet.index == fresh.index);
 }
 
+/// The mirror rows of `image` through the Verlet list in slot `which` equal mirrorRows afresh
+/// (exactly); returns the fresh rows.
+NeighbourList requireMirrorVerletIsFresh(NeighbourSearch& search, const DriftingCloud& c,
+                                         const Reflection& image, bool same_body,
+                                         std::size_t which, double skin) {
+  NeighbourList verlet, fresh;
+  search.mirrorRowsVerlet(c.x, c.h, c.body, image, same_body, which, skin, verlet);
+  search.mirrorRows(c.x, c.h, c.body, image, same_body, fresh);
+  REQUIRE(verlet.offset == fresh.offset);
+  REQUIRE(verlet.index == fresh.index);
+  return fresh;
+}
+
+/// Appends n points within 0.3 mm of the plane y = 0 (on its positive side, or its negative
+/// one for side = -1) over 3 x 3 mm, of bodies 0, 1, 0, ..., with smoothing length h; body 0's
+/// drift `flight`, body 1's none.
+void appendNearPlane(DriftingCloud& c, std::mt19937& rng, int n, double h, double side = 1.0,
+                     const Vec3& flight = Vec3::Zero()) {
+  std::uniform_real_distribution<double> u(0.0, 3e-3);
+  for (int b = 0; b < n; ++b) {
+    const double x = u(rng), y = side * 0.1 * u(rng), z = u(rng);
+    c.x.emplace_back(x, y, z);
+    c.h.push_back(h);
+    c.body.push_back(b % 2);
+    c.drift.push_back(b % 2 == 0 ? flight : Vec3::Zero());
+  }
+}
+
 /// Every pair i < j of different bodies within h_i + h_j, by brute force: the reference of
 /// crossBodyPairsVerlet with the particles' h as contact radii.
 std::vector<std::pair<int, int>> crossBodyPairsBruteForce(const std::vector<Vec3>& x,
@@ -413,13 +441,8 @@ TEST_CASE("sph mirror rows through Verlet lists: a body moving off the plane", "
   y_plane.flip[1] = true;
   NeighbourSearch search;
   for (int k = 0; k < 10; ++k) {
-    NeighbourList verlet, fresh;
-    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, true, 0, 0.3, verlet);
-    search.mirrorRows(c.x, c.h, c.body, y_plane, true, fresh);
-    INFO("call " << k << ": " << fresh.pairs() << " pairs");
-    REQUIRE(fresh.pairs() > 0);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
+    INFO("call " << k);
+    REQUIRE(requireMirrorVerletIsFresh(search, c, y_plane, true, 0, 0.3).pairs() > 0);
     for (std::size_t i = 0; i < c.x.size(); ++i)
       if (c.body[i] == 0) c.x[i].y() += 0.05 * c.h[i];
   }
@@ -443,23 +466,11 @@ TEST_CASE("sph mirror rows through a Verlet list: points appended into a body fl
   y_plane.flip[1] = true;
   NeighbourSearch search;
   std::mt19937 rng(29);
-  std::uniform_real_distribution<double> u(0.0, 3e-3);
   std::size_t jumpers = 0;
   for (int k = 0; k < 12; ++k) {
-    if (k == 6)
-      for (int b = 0; b < 6; ++b) {
-        c.x.emplace_back(u(rng), 0.1 * u(rng), u(rng));
-        c.h.push_back(h);
-        c.body.push_back(b % 2);
-        c.drift.push_back(b % 2 == 0 ? flight : Vec3::Zero());
-      }
-    NeighbourList verlet, fresh;
-    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, true, 0, 0.3, verlet);
-    search.mirrorRows(c.x, c.h, c.body, y_plane, true, fresh);
-    INFO("call " << k << ": " << fresh.pairs() << " pairs");
-    REQUIRE(fresh.pairs() > 0);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
+    if (k == 6) appendNearPlane(c, rng, 6, h, 1.0, flight);
+    INFO("call " << k);
+    REQUIRE(requireMirrorVerletIsFresh(search, c, y_plane, true, 0, 0.3).pairs() > 0);
     jumpers = 0;
     for (std::size_t i = 0; i < c.x.size(); ++i) {
       c.x[i] += c.drift[i];
@@ -482,24 +493,14 @@ TEST_CASE("sph mirror rows through Verlet lists pair points appended near the pl
   y_plane.flip[1] = true;
   NeighbourSearch search;
   std::mt19937 rng(17);
-  std::uniform_real_distribution<double> u(0.0, 3e-3);
   std::size_t pairs_of_new = 0;
   for (int k = 0; k < 6; ++k) {
     const std::size_t first_new = c.x.size();
-    if (k > 0)
-      for (int b = 0; b < 6; ++b) {
-        c.x.emplace_back(u(rng), 0.1 * u(rng), u(rng));
-        c.h.push_back(0.38e-3);
-        c.body.push_back(b % 2);
-      }
+    if (k > 0) appendNearPlane(c, rng, 6, 0.38e-3);
     for (bool same_body : {true, false}) {
-      NeighbourList verlet, fresh;
-      search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, same_body, 0, same_body ? 0.3 : 2.0,
-                              verlet);
-      search.mirrorRows(c.x, c.h, c.body, y_plane, same_body, fresh);
       INFO("call " << k << ", same body " << same_body);
-      REQUIRE(verlet.offset == fresh.offset);
-      REQUIRE(verlet.index == fresh.index);
+      const NeighbourList fresh =
+          requireMirrorVerletIsFresh(search, c, y_plane, same_body, 0, same_body ? 0.3 : 2.0);
       for (std::size_t i = 0; i < c.x.size() && k > 0; ++i)
         for (std::size_t q = fresh.offset[i]; q < fresh.offset[i + 1]; ++q)
           pairs_of_new += i >= first_new || static_cast<std::size_t>(fresh.index[q]) >= first_new;
@@ -513,28 +514,16 @@ TEST_CASE("sph mirror rows through Verlet lists pair points appended near the pl
   c.h.push_back(0.9e-3);
   c.body.push_back(0);
   for (bool same_body : {true, false}) {
-    NeighbourList verlet, fresh;
-    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, same_body, 0, same_body ? 0.3 : 2.0, verlet);
-    search.mirrorRows(c.x, c.h, c.body, y_plane, same_body, fresh);
     INFO("a wide point appended, same body " << same_body);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
+    requireMirrorVerletIsFresh(search, c, y_plane, same_body, 0, same_body ? 0.3 : 2.0);
   }
   CHECK(search.mirrorVerletBuilds() == 4);
   // Points appended on the other side of the plane end the one-side condition the appending
   // relies on: both lists are built again, and still equal mirrorRows.
-  for (int b = 0; b < 6; ++b) {
-    c.x.emplace_back(u(rng), -0.1 * u(rng), u(rng));
-    c.h.push_back(0.38e-3);
-    c.body.push_back(b % 2);
-  }
+  appendNearPlane(c, rng, 6, 0.38e-3, -1.0);
   for (bool same_body : {true, false}) {
-    NeighbourList verlet, fresh;
-    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, same_body, 0, same_body ? 0.3 : 2.0, verlet);
-    search.mirrorRows(c.x, c.h, c.body, y_plane, same_body, fresh);
     INFO("points on both sides, same body " << same_body);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
+    requireMirrorVerletIsFresh(search, c, y_plane, same_body, 0, same_body ? 0.3 : 2.0);
   }
   CHECK(search.mirrorVerletBuilds() == 6);
 }
@@ -548,12 +537,8 @@ TEST_CASE("sph mirror rows through a Verlet list with points on both sides of th
   y_plane.flip[1] = true;
   NeighbourSearch search;
   for (int k = 0; k < 4; ++k) {
-    NeighbourList verlet, fresh;
-    search.mirrorRowsVerlet(c.x, c.h, c.body, y_plane, true, 0, 0.3, verlet);
-    search.mirrorRows(c.x, c.h, c.body, y_plane, true, fresh);
-    REQUIRE(fresh.pairs() > 0);
-    REQUIRE(verlet.offset == fresh.offset);
-    REQUIRE(verlet.index == fresh.index);
+    INFO("call " << k);
+    REQUIRE(requireMirrorVerletIsFresh(search, c, y_plane, true, 0, 0.3).pairs() > 0);
     for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += c.drift[i];
   }
   CHECK(search.mirrorVerletBuilds() == 4);
