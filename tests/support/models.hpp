@@ -34,6 +34,32 @@ inline Material mieGruneisenSteel() {
   return m;
 }
 
+/// elasticMaterial made elastic-perfectly plastic: Johnson-Cook with A = 300 MPa and no
+/// hardening, rate dependence or heating (no specific heat).
+inline Material perfectlyPlasticMaterial() {
+  Material m = elasticMaterial();
+  m.strength = StrengthModel::JohnsonCook;
+  m.A = 300e6;
+  const std::string err = finaliseMaterial(m);
+  if (!err.empty()) throw std::logic_error(err);
+  return m;
+}
+
+/// The deviatoric stress of perfectlyPlasticMaterial-like `mat` on its yield surface in
+/// uniaxial compression along z: s_zz = -2A/3, s_xx = s_yy = A/3 (von Mises A).
+inline Sym yieldedInUniaxialCompression(const Material& mat) {
+  return Sym{mat.A / 3, mat.A / 3, -2 * mat.A / 3, 0, 0, 0};
+}
+
+/// Plastic work (J) of a volume V0 of perfectlyPlasticMaterial-like `mat` (yield stress A)
+/// compressed in uniaxial strain z = z0 (1 - r t) from 0 to t_end, starting on its yield
+/// surface (yieldedInUniaxialCompression), by hand: its equivalent strain rate is
+/// (2/3) r / (1 - r t) and its volume V0 (1 - r t), so the plastic power A eps_p' V is the
+/// constant (2/3) A r V0.
+inline double uniaxialPlasticWork(const Material& mat, double r, double V0, double t_end) {
+  return 2.0 / 3.0 * mat.A * r * V0 * t_end;
+}
+
 /// Specific internal energy (J/kg) of a point of `mat` compressed without dissipation from
 /// (1/rho0, e = 0) to the specific volume v1 (m^3/kg): de = -p(1/v, e) dv integrated with RK4
 /// in 4000 steps, converged far below what the energy-order tests check.
