@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Tet4 kinematics and the explicit FE solver: gradients, patch test, rigid rotation,
 // conservation of momentum and energy.
+#include "core/common/error.hpp"
 #include "core/fem/element_forces.hpp"
 #include "core/fem/tet4.hpp"
 #include "core/solver/step.hpp"
@@ -358,4 +359,46 @@ TEST_CASE("the central difference stays second order when the step changes",
   std::printf("[fem] varying steps: position errors %.3g / %.3g m at Courant 0.1 / 0.05 "
               "(ratio %.2f)\n", e10, e5, e10 / e5);
   CHECK(e10 / e5 > 3);
+}
+
+TEST_CASE("the time step: Courant fraction, growth cap, landing on the end time, its limiter",
+          "[unit][fem]") {
+  // Reference: stableTimeStep's rules (docs/design.md, time integration), by hand on stable
+  // steps set directly. dt = courant min(live elements', particles') steps, named after the
+  // lowest index that attains the minimum, a particle only when strictly below every element;
+  // at most dt_growth times the last step; the end time reached without a sliver: a remainder
+  // under two steps is split in halves; a step under dt_min stops the run.
+  Model m = boxModel(elasticMaterial(), Vec3(1e-3, 1e-3, 1e-3), 1, 1, 1);
+  REQUIRE(m.elems.size() == 6);
+  m.elems.dt = {3e-8, 2e-8, 5e-8, 2e-8, 4e-8, 6e-8};
+  m.elems.status[2] = ElemStatus::Eroded;
+  m.elems.dt[2] = 1e-12;  // an eroded element limits nothing
+  const double courant = m.controls.courant, t_far = 1.0;
+  CHECK(stableTimeStep(m, t_far) == courant * 2e-8);
+  CHECK(m.dt_limiter == "element 1");
+
+  appendParticle(m.particles, Vec3::Zero(), Vec3::Zero(), 1e-6, 1e-9, 1e-3, 1.3e-3, PointState{},
+                 0, 0, -1);
+  m.particles.dt[0] = 2e-8;  // a tie goes to the element
+  CHECK(stableTimeStep(m, t_far) == courant * 2e-8);
+  CHECK(m.dt_limiter == "element 1");
+  m.particles.dt[0] = 1.5e-8;
+  CHECK(stableTimeStep(m, t_far) == courant * 1.5e-8);
+  CHECK(m.dt_limiter == "particle 0");
+  m.particles.dt[0] = 1.0;
+
+  m.dt = 0.5 * courant * 2e-8;  // the last step: the new one may grow by dt_growth at most
+  CHECK(stableTimeStep(m, t_far) == m.controls.dt_growth * m.dt);
+  CHECK(m.dt_limiter == "growth cap");
+  m.dt = 0;
+
+  const double dt = courant * 2e-8;
+  m.time = 0.25;
+  CHECK(stableTimeStep(m, m.time + 1.5 * dt) == Approx(0.75 * dt).epsilon(1e-6));
+  CHECK(m.dt_limiter == "output/end time");
+  CHECK(stableTimeStep(m, m.time + 0.5 * dt) == Approx(0.5 * dt).epsilon(1e-6));
+  CHECK(m.dt_limiter == "output/end time");
+
+  m.controls.dt_min = 2 * dt;
+  CHECK_THROWS_AS(stableTimeStep(m, t_far), RunError);
 }
