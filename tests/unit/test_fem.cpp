@@ -363,7 +363,7 @@ TEST_CASE("the central difference stays second order when the step changes",
 
 TEST_CASE("the time step: Courant fraction, growth cap, landing on the end time, its limiter",
           "[unit][fem]") {
-  // Reference: stableTimeStep's rules (docs/design.md, time integration), by hand on stable
+  // Reference: stableTimeStep's rules (docs/design.md, "Variable dt"), by hand on stable
   // steps set directly. dt = courant min(live elements', particles') steps, named after the
   // lowest index that attains the minimum, a particle only when strictly below every element;
   // at most dt_growth times the last step; the end time reached without a sliver: a remainder
