@@ -31,7 +31,16 @@ TEST_CASE("particles across a symmetry plane: counted on the side away from the 
   CHECK(up[0].particles == 1);
   CHECK(up[0].mass == Approx(5e-3).epsilon(1e-15));
 
+  // A plane whose side the nodes do not tell (all on it: a sheet in the plane) reports
+  // nothing, rather than a leak of zero it cannot know; the other plane still reports.
+  m.nodes.x = {Vec3(0, 3e-3, 0), Vec3(1e-3, 3e-3, 0), Vec3(0, 3e-3, 1e-3)};
+  const std::vector<SymmetryPlane> both = {{1, 3e-3}, {0, -1e-3}};
+  const std::vector<SymmetryLeak> told = particlesAcrossSymmetry(m, both);
+  REQUIRE(told.size() == 1);
+  CHECK(told[0].plane == &both[1]);
+
   // No particles: nothing across, no division by zero.
+  m.nodes.x = {Vec3(0, 3e-3, 0), Vec3(0, -2e-3, 0)};
   m.particles = Particles{};
   const std::vector<SymmetryLeak> none = particlesAcrossSymmetry(m, planes);
   REQUIRE(none.size() == 1);
