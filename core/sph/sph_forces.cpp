@@ -235,8 +235,10 @@ void kinematics(const Particles& pa, std::size_t i, SphWorkspace& ws) {
 /// -0.1 rho0 c0^2 outweighs Gamma0 rho0 e), so the cap does no work.
 constexpr double kFailedMinDensityRatio = 0.9;
 
-double failedVolumeCap(const Material& mat, double mass) {
-  return mass / (kFailedMinDensityRatio * mat.rho0);
+/// The volume V a failed particle of volume V_old may reach: no growth past the cap, and none
+/// at all for one already past it (it may still shrink).
+double failedVolume(double V, double V_old, const Material& mat, double mass) {
+  return std::min(V, std::max(V_old, mass / (kFailedMinDensityRatio * mat.rho0)));
 }
 
 /// Pass 0 for particle i: its volume at t^n, which weights this step's sums and forces. The
@@ -251,7 +253,7 @@ void predictVolume(const Model& model, std::size_t i, double dt, SphWorkspace& w
   double V = pa.V[i];
   if (i < prev.size()) V *= std::exp(prev.volume_rate[i] * dt);  // born this step: no rate
   if (V > pa.V[i] && pa.state[i].damage >= 1.0)  // only growth reads the state's cache line
-    V = std::min(V, std::max(pa.V[i], failedVolumeCap(model.materials[pa.material[i]], pa.m[i])));
+    V = failedVolume(V, pa.V[i], model.materials[pa.material[i]], pa.m[i]);
   ws.current.V[i] = V;
 }
 
@@ -282,8 +284,7 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   // dV/dt = V tr(D), integrated exactly for a constant rate: V stays positive
   const double rate = D.trace();
   const double V_free = V_old * std::exp(rate * dt);
-  const double V_new =
-      st.damage >= 1.0 ? std::min(V_free, std::max(V_old, failedVolumeCap(mat, mass))) : V_free;
+  const double V_new = st.damage >= 1.0 ? failedVolume(V_free, V_old, mat, mass) : V_free;
   pa.V[i] = V_new;
   pa.rho[i] = mass / V_new;
   pa.h[i] *= std::cbrt(V_new / V_old);  // h follows density: h = h0 (rho0 / rho)^(1/3)
