@@ -122,16 +122,17 @@ void readSimulation(const toml::table& t, const std::string& file, Scene& sc) {
             "[simulation]");
   SolverControls& c = sc.controls;
   c.end_time = positive(t, "end_time", file);
-  c.courant = positive(t, "courant", file, 0.5);
+  c.courant = positive(t, "courant", file, c.courant);
   if (c.courant > 1.0) fail(file, where(t, "courant"), "'courant' must be in (0, 1]");
-  c.bulk_linear = positive(t, "bulk_linear", file, 0.06, true);
-  c.bulk_quadratic = positive(t, "bulk_quadratic", file, 1.5, true);
-  c.average_nodal_pressure = boolean(t, "average_nodal_pressure", file, true);
+  c.bulk_linear = positive(t, "bulk_linear", file, c.bulk_linear, true);
+  c.bulk_quadratic = positive(t, "bulk_quadratic", file, c.bulk_quadratic, true);
+  c.average_nodal_pressure =
+      boolean(t, "average_nodal_pressure", file, c.average_nodal_pressure);
   c.anp_element_fraction = positive(t, "anp_element_fraction", file, c.anp_element_fraction, true);
   if (c.anp_element_fraction > 1)
     fail(file, where(t, "anp_element_fraction"), "'anp_element_fraction' must be in [0, 1]");
-  c.dt_min = positive(t, "dt_min", file, 1e-13);
-  c.dt_growth = positive(t, "dt_growth", file, 1.1);
+  c.dt_min = positive(t, "dt_min", file, c.dt_min);
+  c.dt_growth = positive(t, "dt_growth", file, c.dt_growth);
   if (c.dt_growth < 1.0) fail(file, where(t, "dt_growth"), "'dt_growth' must be >= 1");
   sc.half = choice(t, "symmetry", file, {"none", "half"}, std::string("none")) == "half";
   if (sc.half) sc.symmetry.push_back({1, 0.0});
@@ -226,9 +227,10 @@ void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
   o.folder = string(*t, "folder", file, o.folder);
   o.interval = positive(*t, "interval", file, o.interval);
   o.fields = strings(*t, "fields", file);
-  o.history_every = integer(*t, "history_every", file, 10);
+  o.history_every = integer(*t, "history_every", file, o.history_every);
   if (o.history_every < 1) fail(file, where(*t, "history_every"), "'history_every' must be >= 1");
-  o.checkpoint_interval = positive(*t, "checkpoint_interval", file, 0.0, true);
+  o.checkpoint_interval =
+      positive(*t, "checkpoint_interval", file, o.checkpoint_interval, true);
   o.checkpoints_kept = integer(*t, "checkpoints_kept", file, o.checkpoints_kept);
   if (o.checkpoints_kept < 1)
     fail(file, where(*t, "checkpoints_kept"), "'checkpoints_kept' must be >= 1");
@@ -272,8 +274,8 @@ PlateSpec readPlate(const toml::table& t, const std::string& file, bool half) {
     p.refine_x = numberValue(*a->get(0));
     p.refine_y = numberValue(*a->get(1));
   }
-  p.refine_radius = positive(t, "refine_radius", file, 0.0, true);
-  p.refine_stretch_x = positive(t, "refine_stretch_x", file, 1.0);
+  p.refine_radius = positive(t, "refine_radius", file, p.refine_radius, true);
+  p.refine_stretch_x = positive(t, "refine_stretch_x", file, p.refine_stretch_x);
   p.grade_distance = positive(t, "grade_distance", file, 0.5 * std::max(p.size_x, p.size_y), true);
   p.half = half;
   const double volume = p.size_x * p.size_y * p.thickness;
@@ -295,12 +297,12 @@ ProjectileSpec readProjectile(const toml::table& t, const std::string& file, boo
       choice(t, "nose", file, {"flat", "hemispherical", "ogive"}, std::string("flat"));
   p.nose = nose == "flat" ? NoseShape::Flat
                           : nose == "ogive" ? NoseShape::Ogive : NoseShape::Hemispherical;
-  p.crh = positive(t, "crh", file, 2.0);
+  p.crh = positive(t, "crh", file, p.crh);
   if (p.nose == NoseShape::Ogive && p.crh < 0.5)
     fail(file, where(t, "crh"), "'crh' of an ogive must be >= 0.5");
   if (p.nose == NoseShape::Hemispherical && p.length < 0.5 * p.diameter)
     fail(file, where(t, "length"), "a hemispherical nose needs length >= diameter / 2");
-  p.cavity_diameter = positive(t, "cavity_diameter", file, 0.0, true);
+  p.cavity_diameter = positive(t, "cavity_diameter", file, p.cavity_diameter, true);
   if (p.cavity_diameter > 0) {
     p.cavity_start = positive(t, "cavity_start", file);
     p.cavity_end = positive(t, "cavity_end", file);
@@ -372,7 +374,7 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
     allowKeys(shape, file, {"type", "file", "scale"}, "msh shape");
     MshShape m;
     m.path = (fs::path(file).parent_path() / string(shape, "file", file)).string();
-    m.scale = positive(shape, "scale", file, 1.0);
+    m.scale = positive(shape, "scale", file, m.scale);
     if (!fs::exists(m.path)) fail(file, where(shape, "file"), "mesh file not found: " + m.path);
     b.shape = m;
   }
@@ -416,7 +418,7 @@ void readBoundary(const toml::table& t, const std::string& file, Scene& sc,
     w.normal = vec3(t, "normal", file);
     if (w.normal.norm() == 0) fail(file, where(t, "normal"), "'normal' must not be zero");
     w.normal.normalize();
-    w.friction = positive(t, "friction", file, 0.0, true);
+    w.friction = positive(t, "friction", file, w.friction, true);
     sc.walls.push_back(w);
   }
 }

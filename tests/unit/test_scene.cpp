@@ -5,9 +5,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <sys/wait.h>
 
 using namespace fesph;
@@ -347,6 +350,246 @@ mesh_size = 2e-3
       FAIL("no error");
     } catch (const InputError& e) {
       CHECK(e.line() == 25);  // 12 lines, a blank, the plate's 10, [reference], the value
+    }
+  }
+}
+
+namespace {
+
+// kGoodScene's bar and, 5 mm below its nose, a plate that names only the keys it must.
+const std::string kBarAndPlate = std::string(kGoodScene) + R"([[bodies]]
+name = "plate"
+material = "A36"
+position = [0, 0, -5e-3]
+[bodies.shape]
+type = "plate"
+size_x = 20e-3
+size_y = 30e-3
+thickness = 2e-3
+mesh_size = 2e-3
+)";
+
+// The message of the InputError that loading `text` (written to `name`: one name a test, as
+// ctest runs the tests side by side) with `set` throws; empty when it loads.
+std::string loadError(const std::string& name, const std::string& text,
+                      const std::vector<std::string>& set) {
+  try {
+    loadScene(writeScene(name, text), set, library());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a scene that leaves the optional keys out gets the README's defaults",
+          "[unit][scene]") {
+  // README.md, "Scenes", states these; each is read from the controls' own defaults
+  // (model.hpp, sph_workspace.hpp, mesh.hpp), so a default given twice cannot drift.
+  const std::string text = kBarAndPlate + R"([[bodies]]
+name = "cube"
+material = "steel_4340"
+position = [0, 0, -50e-3]
+[bodies.shape]
+type = "msh"
+file = ")" + std::string(FESPH_TEST_DATA_DIR) + R"(/cube_v41.msh"
+[[boundary]]
+type = "rigid_wall"
+point = [0, 0, -0.1]
+normal = [0, 0, 2]
+)";
+  const Scene sc = loadScene(writeScene("defaults.toml", text), {}, library());
+  const SolverControls& c = sc.controls;
+  CHECK(c.courant == 0.5);
+  CHECK(c.bulk_linear == 0.06);
+  CHECK(c.bulk_quadratic == 1.5);
+  CHECK(c.average_nodal_pressure);
+  CHECK(c.anp_element_fraction == 0.01);
+  CHECK(c.dt_growth == 1.1);
+  CHECK(c.dt_min == 1e-13);
+  CHECK(c.contact.passes == 3);
+  CHECK(c.contact.friction == 0.0);
+  CHECK(c.contact.depth_tolerance == 0.2);
+  CHECK(c.conversion.mode == ConversionMode::None);
+  CHECK(c.conversion.plastic_strain == 0.4);
+  CHECK(c.conversion.min_volume_ratio == 0.05);
+  CHECK(c.conversion.max_volume_ratio == 20.0);
+  CHECK(c.conversion.min_dt_ratio == 0.1);
+  CHECK(sc.sph.kappa == 1.3);
+  CHECK(sc.sph.av_alpha == 0.1);
+  CHECK(sc.sph.av_beta == 0.5);
+  CHECK(sc.sph.artificial_stress);
+  CHECK(sc.sph.dt_factor == 0.4);
+  CHECK(sc.output.folder == "runs/defaults");
+  CHECK(sc.output.interval == 1e-6 / 20);  // a twentieth of the end time
+  CHECK(sc.output.fields.empty());
+  CHECK(sc.output.history_every == 10);
+  CHECK(sc.output.checkpoint_interval == 0.0);
+  CHECK(sc.output.checkpoints_kept == 2);
+  CHECK_FALSE(sc.half);
+  CHECK(sc.symmetry.empty());
+
+  const auto& bar = std::get<ProjectileSpec>(sc.bodies[0].shape);
+  CHECK(bar.nose == NoseShape::Flat);
+  CHECK(bar.crh == 2.0);
+  CHECK(bar.cavity_diameter == 0.0);
+  CHECK_FALSE(sc.bodies[1].projectile);
+  CHECK(sc.bodies[1].discretisation == Discretisation::Fem);
+  CHECK(sc.bodies[1].velocity == Vec3::Zero());
+  const auto& plate = std::get<PlateSpec>(sc.bodies[1].shape);
+  CHECK(plate.coarse_size == plate.fine_size);  // uniform: no grading
+  CHECK(plate.refine_radius == 0.0);
+  CHECK(plate.refine_x == 0.0);
+  CHECK(plate.refine_y == 0.0);
+  CHECK(plate.refine_stretch_x == 1.0);
+  CHECK(plate.grade_distance == 0.5 * 30e-3);  // half the larger side
+  CHECK(std::get<MshShape>(sc.bodies[2].shape).scale == 1.0);
+  REQUIRE(sc.walls.size() == 1);
+  CHECK(sc.walls[0].friction == 0.0);
+  CHECK(sc.walls[0].normal == Vec3::UnitZ());  // [0, 0, 2] made a unit normal
+  CHECK(sc.bodies[0].placement.rotation == Mat3::Identity());
+}
+
+TEST_CASE("each bound of a scene value lies where its message puts it", "[unit][scene]") {
+  // On the bound (or just inside it) loads, just past it is refused naming the rule; the
+  // bounds are the messages' own ("'courant' must be in (0, 1]", ...).
+  struct Case {
+    std::vector<std::string> set;
+    std::string error;  ///< a piece of the message; empty: the scene loads
+    std::string extra = "";  ///< text appended to the scene
+  };
+  const std::string half = "simulation.symmetry=\"half\"";
+  const std::string box = "\n[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"box\"\n"
+                          "min = [-1, -1, -1]\n";
+  const std::string plane = "\n[[boundary]]\ntype = \"symmetry\"\naxis = \"x\"\nposition = ";
+  const std::vector<Case> cases = {
+      {{"simulation.courant=1.0"}, ""},
+      {{"simulation.courant=1.000001"}, "'courant' must be in (0, 1]"},
+      {{"simulation.anp_element_fraction=1.0"}, ""},
+      {{"simulation.anp_element_fraction=0.0"}, ""},
+      {{"simulation.anp_element_fraction=1.01"}, "'anp_element_fraction' must be in [0, 1]"},
+      {{"simulation.dt_growth=1.0"}, ""},
+      {{"simulation.dt_growth=0.999"}, "'dt_growth' must be >= 1"},
+      {{"simulation.end_time=inf"}, "'end_time' must be finite"},
+      {{"contact.passes=1"}, ""},
+      {{"contact.passes=10"}, ""},
+      {{"contact.passes=0"}, "'passes' must be 1 to 10"},
+      {{"contact.passes=11"}, "'passes' must be 1 to 10"},
+      {{"conversion.max_volume_ratio=1.001"}, ""},
+      {{"conversion.max_volume_ratio=1.0"}, "min_volume_ratio < 1 < max_volume_ratio"},
+      {{"conversion.min_volume_ratio=0.999"}, ""},
+      {{"conversion.min_volume_ratio=1.0"}, "min_volume_ratio < 1 < max_volume_ratio"},
+      {{"conversion.min_dt_ratio=0.999"}, ""},
+      {{"conversion.min_dt_ratio=1.0"}, "'min_dt_ratio' must be < 1"},
+      {{"sph.kappa=0.8"}, ""},
+      {{"sph.kappa=2.5"}, ""},
+      {{"sph.kappa=0.79"}, "'kappa' must be in [0.8, 2.5]"},
+      {{"sph.kappa=2.51"}, "'kappa' must be in [0.8, 2.5]"},
+      {{"sph.dt_factor=1.0"}, ""},
+      {{"sph.dt_factor=1.01"}, "'dt_factor' must be in (0, 1]"},
+      {{"output.history_every=1"}, ""},
+      {{"output.history_every=0"}, "'history_every' must be >= 1"},
+      {{"output.checkpoints_kept=1"}, ""},
+      {{"output.checkpoints_kept=0"}, "'checkpoints_kept' must be >= 1"},
+      {{"bodies.plate.shape.coarse_size=2e-3"}, ""},
+      {{"bodies.plate.shape.coarse_size=1.99e-3"}, "'coarse_size' must be >= 'mesh_size'"},
+      {{"bodies.bar.shape.nose=\"ogive\"", "bodies.bar.shape.crh=0.5"}, ""},
+      {{"bodies.bar.shape.nose=\"ogive\"", "bodies.bar.shape.crh=0.49"}, "'crh' of an ogive"},
+      {{"bodies.bar.shape.nose=\"flatter\""}, "is not one of"},
+      {{"bodies.bar.shape.nose=\"hemispherical\"", "bodies.bar.shape.length=2e-3"}, ""},
+      {{"bodies.bar.shape.nose=\"hemispherical\"", "bodies.bar.shape.length=1.99e-3"},
+       "length >= diameter / 2"},
+      {{"bodies.bar.shape.cavity_diameter=3.99e-3", "bodies.bar.shape.cavity_start=1e-3",
+        "bodies.bar.shape.cavity_end=7.99e-3"},
+       ""},
+      {{"bodies.bar.shape.cavity_diameter=4e-3", "bodies.bar.shape.cavity_start=1e-3",
+        "bodies.bar.shape.cavity_end=7e-3"},
+       "'cavity_diameter' must be below 'diameter'"},
+      {{"bodies.bar.shape.cavity_diameter=2e-3", "bodies.bar.shape.cavity_start=1e-3",
+        "bodies.bar.shape.cavity_end=8e-3"},
+       "cavity_start < cavity_end < length"},
+      {{"bodies.bar.shape.cavity_diameter=2e-3", "bodies.bar.shape.cavity_start=3e-3",
+        "bodies.bar.shape.cavity_end=3e-3"},
+       "cavity_start < cavity_end < length"},
+      {{"bodies.bar.name=\"bar-1_b\""}, ""},
+      {{"bodies.bar.velocity=[0, 0, nan]"}, "'velocity' must hold 3 finite numbers"},
+      // A half model keeps its plane y = 0: rotations about y only, nothing moves along y.
+      {{half, "bodies.bar.rotation={axis = [0, 1, 0], angle_deg = 25}"}, ""},
+      {{half, "bodies.bar.rotation={axis = [1, 0, 0], angle_deg = 25}"},
+       "may only rotate about the y axis"},
+      {{half, "bodies.bar.position=[0, 1e-9, 0]"}, "may only rotate about the y axis"},
+      {{half, "bodies.bar.velocity=[0, 1e-9, -100]"}, "the velocity must have y = 0"},
+      {{}, "", box + "max = [1, 1, 1]\n"},
+      {{}, "'max' must exceed 'min' in every component", box + "max = [1, -1, 1]\n"},
+      {{}, "", plane + "0.0\n"},
+      {{}, "one per axis", plane + "0.0\n" + plane + "1e-3\n"},
+      {{}, "", "[materials.A36]\ndensity = 7800.0\n"},
+      {{}, "'copper_taylor_benchmark' is not used by any body",
+       "[materials.copper_taylor_benchmark]\ndensity = 8900.0\n"},
+      {{}, "[materials.A36] must be a table", "[materials]\nA36 = 3\n"},
+      // a typo two edits away still gets its suggestion
+      {{"simulation.end_tiem=1e-6"}, "did you mean 'end_time'?"},
+  };
+  for (const Case& c : cases) {
+    std::string set;
+    for (const std::string& s : c.set) set += s + " ";
+    INFO(set << c.extra);
+    const std::string error = loadError("bounds.toml", kBarAndPlate + c.extra, c.set);
+    INFO(error);
+    if (c.error.empty())
+      CHECK(error.empty());
+    else
+      CHECK(error.find(c.error) != std::string::npos);
+  }
+}
+
+TEST_CASE("the mesh size limit counts the refined disc and the coarse rest", "[unit][scene]") {
+  // At most 50 million tetrahedra a body; a regular tetrahedron of edge h holds h^3/(6 sqrt 2),
+  // so a volume V meshed at h takes about V / (h^3/(6 sqrt 2)) of them. A plate refined in a
+  // disc of radius refine_radius * max(1, refine_stretch_x) + grade_distance (grade_distance
+  // by default half the larger side) counts that disc at mesh_size and all of it at
+  // coarse_size. Just under the limit loads, just over it is refused.
+  const double limit = 50e6;
+  const auto tets = [](double volume, double h) { return volume / (h * h * h / (6 * std::sqrt(2.0))); };
+  const auto shape = [](const std::string& key, double x) {
+    std::ostringstream s;
+    s << std::setprecision(17) << "bodies.plate.shape." << key << "=" << x;
+    return s.str();
+  };
+  struct Case {
+    double size, refine_radius, stretch, coarse;  ///< coarse 0: uniform (coarse = mesh size)
+  };
+  for (const Case& c : {Case{0.1, 0.0, 1.0, 0.0}, Case{0.4, 0.01, 1.0, 0.02},
+                        Case{0.4, 0.01, 2.0, 0.02}}) {
+    const double thickness = 0.01, volume = c.size * c.size * thickness;
+    const double radius = c.refine_radius * c.stretch + 0.5 * c.size;
+    const double fine = c.refine_radius > 0 ? M_PI * radius * radius * thickness : volume;
+    REQUIRE(fine <= volume);
+    std::vector<std::string> set = {shape("size_x", c.size), shape("size_y", c.size),
+                                    shape("thickness", thickness)};
+    if (c.coarse > 0) {
+      set.push_back(shape("coarse_size", c.coarse));
+      set.push_back(shape("refine_radius", c.refine_radius));
+      set.push_back(shape("refine_stretch_x", c.stretch));
+    }
+    // The mesh size at which the fine part and the rest make the limit (tets(V, h) is
+    // tets(V, 1) / h^3): a uniform plate counts its volume at the mesh size twice, as the
+    // reader does.
+    const double at_unit_h = tets(fine, 1.0) + (c.coarse > 0 ? 0.0 : tets(volume, 1.0));
+    const double coarse_tets = c.coarse > 0 ? tets(volume, c.coarse) : 0.0;
+    const double h_limit = std::cbrt(at_unit_h / (limit - coarse_tets));
+    INFO("plate " << c.size << " m, refine radius " << c.refine_radius << ", stretch "
+                  << c.stretch << ": limit at mesh_size " << h_limit);
+    for (const double factor : {1.01, 0.99}) {
+      std::vector<std::string> s = set;
+      s.push_back(shape("mesh_size", factor * h_limit));
+      const std::string error = loadError("mesh_limit.toml", kBarAndPlate, s);
+      INFO(factor << ": " << error);
+      if (factor > 1)
+        CHECK(error.empty());
+      else
+        CHECK(error.find("'mesh_size' gives about") != std::string::npos);
     }
   }
 }
