@@ -20,11 +20,13 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <regex>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
+#include <type_traits>
 #include <vector>
 
 using namespace fesph;
@@ -224,6 +226,421 @@ TEST_CASE("a run continued from a checkpoint is bit-identical to an unbroken run
   requireSameState(first, continued);
   stepTo(continued, 2 * run.N);
   requireSameState(run.unbroken, continued);
+}
+
+namespace {
+
+// Arrays of numbers and of packed structs of numbers (checkpoint.cpp's Layout): byte for byte.
+template <class T> bool same(const std::vector<T>& a, const std::vector<T>& b) {
+  return sameBits(a, b);
+}
+bool same(const std::vector<std::vector<int>>& a, const std::vector<std::vector<int>>& b) {
+  return a == b;
+}
+bool same(double a, double b) { return sameBits(a, b); }
+bool same(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 24) == 0; }
+bool same(const std::string& a, const std::string& b) { return a == b; }
+template <class T> std::enable_if_t<std::is_integral_v<T> || std::is_enum_v<T>, bool>
+same(T a, T b) {
+  return a == b;
+}
+
+// A value for every scalar the checkpoint stores, each unlike its default and the others.
+void setSentinels(Model& m, RunProgress& r) {
+  SolverControls& c = m.controls;
+  c.contact.passes = 7;
+  c.contact.friction = 0.11;
+  c.contact.depth_tolerance = 0.12;
+  c.conversion.mode = ConversionMode::Erosion;
+  c.conversion.plastic_strain = 0.13;
+  c.conversion.min_volume_ratio = 0.14;
+  c.conversion.max_volume_ratio = 15.0;
+  c.conversion.min_dt_ratio = 0.16;
+  c.end_time = 1.7e-3;
+  c.courant = 0.18;
+  c.bulk_linear = 0.19;
+  c.bulk_quadratic = 1.21;
+  c.average_nodal_pressure = !c.average_nodal_pressure;
+  c.anp_element_fraction = 0.22;
+  c.dt_growth = 1.23;
+  c.dt_min = 2.4e-12;
+  SphControls& s = m.sph.controls;
+  s.kappa = 1.25;
+  s.av_alpha = 0.26;
+  s.av_beta = 0.27;
+  s.artificial_stress = !s.artificial_stress;
+  s.as_epsilon = 0.28;
+  s.max_condition = 290.0;
+  s.min_neighbours = 9;
+  s.as_exponent = 3;
+  s.contact_passes = 5;
+  s.dt_factor = 0.31;
+  s.verlet_skin = 0.32;
+  s.order_interval = 33;
+  m.walls.push_back({Vec3(1e-3, 2e-3, 3e-3), Vec3(0.6, 0.0, 0.8), 0.34});
+  EnergyBudget& e = m.energy;
+  double x = 1.01;
+  for (double* term : {&e.kinetic, &e.internal, &e.bulk_viscosity, &e.artificial_viscosity,
+                       &e.plastic_work, &e.contact, &e.contact_through_half, &e.eroded,
+                       &e.conversion, &e.initial, &e.kinetic_half, &e.time})
+    *term = (x += 0.01);
+  e.momentum = Vec3(0.35, -0.36, 0.37);
+  m.conversion.eroded = 38;
+  m.conversion.by_safety = 39;
+  m.conversion.eroded_mass = 4.1e-3;
+  m.surfaces.version = 42;
+  m.dt_limiter = "particle 43";
+
+  r.scene_text = "title = \"sentinel\"\n";
+  r.overrides = {"simulation.end_time=1e-6", "bodies.0.velocity=[0, 0, -44]"};
+  r.scene_path = "/a/scene.toml";
+  r.material_library = "/a/materials.toml";
+  r.series_outputs = 45;
+  r.output_index = 46;
+  r.next_output = 4.7e-6;
+  r.next_checkpoint = 4.8e-6;
+  r.history_rows = 49;
+  r.crossings_projectile = 0;
+  PlateCrossing p;
+  p.body = 1;
+  p.name = "plate_50";
+  p.normal = Vec3(0.0, 0.6, 0.8);
+  p.front = Vec3(0.51, 0.52, 0.53);
+  p.thickness = 5.4e-3;
+  p.measure_depth = 5.5e-3;
+  p.t_contact = 5.6e-6;
+  p.t_measured = 5.7e-6;
+  p.velocity = Vec3(58, 59, 60);
+  p.speed = 61;
+  p.mass_fraction = 0.62;
+  p.through_velocity = Vec3(63, 64, 65);
+  p.through_mass_fraction = 0.66;
+  r.crossings = {p};
+}
+
+}  // namespace
+
+TEST_CASE("every quantity a checkpoint stores reads back bit for bit", "[unit][checkpoint]") {
+  // The bit-identical restart above shows the state that steers the next steps is complete;
+  // this one shows each stored quantity comes back as written, also those a continued run
+  // only reports (counters, energy terms, the run's progress) or that a short continuation
+  // need not touch (controls, walls). Each scalar is set to a value unlike its default.
+  const SplitRun& run = splitRun();
+  Model a = run.first;
+  RunProgress ra;
+  setSentinels(a, ra);
+  testing::TempFolder dir("checkpoint_fields");
+  const std::string path = checkpointPath(dir.path.string(), a.step);
+  writeCheckpoint(path, a, ra);
+  RunProgress rb;
+  const Model b = readCheckpoint(path, rb);
+  REQUIRE(a.particles.size() > 0);
+  REQUIRE(activeTies(a) > 0);
+
+  const Nodes &na = a.nodes, &nb = b.nodes;
+  CHECK(same(na.x, nb.x));
+  CHECK(same(na.x0, nb.x0));
+  CHECK(same(na.v, nb.v));
+  CHECK(same(na.f, nb.f));
+  CHECK(same(na.m, nb.m));
+  CHECK(same(na.body, nb.body));
+  CHECK(same(na.fix, nb.fix));
+  const Elements &ea = a.elems, &eb = b.elems;
+  CHECK(same(ea.conn, eb.conn));
+  CHECK(same(ea.body, eb.body));
+  CHECK(same(ea.material, eb.material));
+  CHECK(same(ea.V0, eb.V0));
+  CHECK(same(ea.V, eb.V));
+  CHECK(same(ea.dV, eb.dV));
+  CHECK(same(ea.rho, eb.rho));
+  CHECK(same(ea.q, eb.q));
+  CHECK(same(ea.div_v, eb.div_v));
+  CHECK(same(ea.dt, eb.dt));
+  CHECK(same(ea.len, eb.len));
+  CHECK(same(ea.len0, eb.len0));
+  CHECK(same(ea.state, eb.state));
+  CHECK(same(ea.status, eb.status));
+  const Particles &pa = a.particles, &pb = b.particles;
+  CHECK(same(pa.x, pb.x));
+  CHECK(same(pa.v, pb.v));
+  CHECK(same(pa.f, pb.f));
+  CHECK(same(pa.m, pb.m));
+  CHECK(same(pa.V, pb.V));
+  CHECK(same(pa.rho, pb.rho));
+  CHECK(same(pa.h, pb.h));
+  CHECK(same(pa.d0, pb.d0));
+  CHECK(same(pa.dt, pb.dt));
+  CHECK(same(pa.state, pb.state));
+  CHECK(same(pa.body, pb.body));
+  CHECK(same(pa.material, pb.material));
+  CHECK(same(pa.parent, pb.parent));
+  CHECK(same(pa.id, pb.id));
+  CHECK(sameTies(pa, pb));
+
+  REQUIRE(a.materials.size() == b.materials.size());
+  for (std::size_t k = 0; k < a.materials.size(); ++k) {
+    const Material &x = a.materials[k], &y = b.materials[k];
+    INFO("material " << x.name);
+    CHECK(same(x.name, y.name));
+    CHECK(same(x.source, y.source));
+    CHECK(same(x.status, y.status));
+    CHECK(same(x.strength, y.strength));
+    CHECK(same(x.damage, y.damage));
+    CHECK(same(x.eos, y.eos));
+    for (auto [u, v] : {std::pair{x.rho0, y.rho0}, {x.E, y.E}, {x.nu, y.nu}, {x.G, y.G},
+                        {x.K, y.K}, {x.cp, y.cp}, {x.T_room, y.T_room}, {x.T_melt, y.T_melt},
+                        {x.taylor_quinney, y.taylor_quinney}, {x.A, y.A}, {x.B, y.B},
+                        {x.n, y.n}, {x.C, y.C}, {x.m, y.m}, {x.eps_dot0, y.eps_dot0},
+                        {x.D1, y.D1}, {x.D2, y.D2}, {x.D3, y.D3}, {x.D4, y.D4}, {x.D5, y.D5},
+                        {x.c0, y.c0}, {x.s, y.s}, {x.gamma0, y.gamma0},
+                        {x.erosion_strain, y.erosion_strain}})
+      CHECK(same(u, v));
+  }
+  REQUIRE(a.bodies.size() == b.bodies.size());
+  for (std::size_t k = 0; k < a.bodies.size(); ++k) {
+    const Body &x = a.bodies[k], &y = b.bodies[k];
+    CHECK(same(x.name, y.name));
+    CHECK(same(x.material, y.material));
+    CHECK(same(x.discretisation, y.discretisation));
+    CHECK(same(x.is_projectile, y.is_projectile));
+    CHECK(same(x.node_begin, y.node_begin));
+    CHECK(same(x.node_end, y.node_end));
+    CHECK(same(x.elem_begin, y.elem_begin));
+    CHECK(same(x.elem_end, y.elem_end));
+  }
+  REQUIRE(b.walls.size() == 1);
+  CHECK(same(a.walls[0].point, b.walls[0].point));
+  CHECK(same(a.walls[0].normal, b.walls[0].normal));
+  CHECK(same(a.walls[0].friction, b.walls[0].friction));
+  REQUIRE(b.symmetry.size() == a.symmetry.size());
+  CHECK(same(a.symmetry[0].axis, b.symmetry[0].axis));
+  CHECK(same(a.symmetry[0].position, b.symmetry[0].position));
+
+  const Surfaces &sa = a.surfaces, &sb = b.surfaces;
+  CHECK(same(sa.table, sb.table));
+  CHECK(same(sa.elem_faces, sb.elem_faces));
+  CHECK(same(sa.exterior, sb.exterior));
+  CHECK(same(sa.slave_nodes, sb.slave_nodes));
+  CHECK(same(sa.node_face_count, sb.node_face_count));
+  CHECK(same(sa.node_slot, sb.node_slot));
+  CHECK(same(sa.version, sb.version));
+
+  const SphWorkspace &wa = a.sph, &wb = b.sph;
+  CHECK(same(wa.neighbours.offset, wb.neighbours.offset));
+  CHECK(same(wa.neighbours.index, wb.neighbours.index));
+  CHECK(same(wa.pair_grad, wb.pair_grad));
+  CHECK(same(wa.pair_stab, wb.pair_stab));
+  for (auto [x, y] : {std::pair{&wa.current, &wb.current}, {&wa.previous, &wb.previous}}) {
+    CHECK(same(x->x, y->x));
+    CHECK(same(x->v, y->v));
+    CHECK(same(x->h, y->h));
+    CHECK(same(x->V, y->V));
+    CHECK(same(x->volume_rate, y->volume_rate));
+    CHECK(same(x->rho, y->rho));
+    CHECK(same(x->c, y->c));
+    CHECK(same(x->d, y->d));
+    CHECK(same(x->B, y->B));
+    CHECK(same(x->R, y->R));
+    CHECK(same(x->tensile, y->tensile));
+  }
+  CHECK(same(wa.corrected, wb.corrected));
+  CHECK(same(wa.velocity_grad, wb.velocity_grad));
+  CHECK(same(wa.velocity_grad_prev, wb.velocity_grad_prev));
+  CHECK(same(wa.stress_b, wb.stress_b));
+  CHECK(same(wa.plastic_work, wb.plastic_work));
+  CHECK(same(wa.av_work, wb.av_work));
+  CHECK(same(wa.contact_radius, wb.contact_radius));
+  CHECK(same(wa.contact_spacing, wb.contact_spacing));
+  CHECK(same(wa.contact_pairs, wb.contact_pairs));
+
+  const SolverControls &ca = a.controls, &cb = b.controls;
+  CHECK(same(ca.contact.passes, cb.contact.passes));
+  CHECK(same(ca.contact.friction, cb.contact.friction));
+  CHECK(same(ca.contact.depth_tolerance, cb.contact.depth_tolerance));
+  CHECK(same(ca.conversion.mode, cb.conversion.mode));
+  for (auto [u, v] :
+       {std::pair{ca.conversion.plastic_strain, cb.conversion.plastic_strain},
+        {ca.conversion.min_volume_ratio, cb.conversion.min_volume_ratio},
+        {ca.conversion.max_volume_ratio, cb.conversion.max_volume_ratio},
+        {ca.conversion.min_dt_ratio, cb.conversion.min_dt_ratio}, {ca.end_time, cb.end_time},
+        {ca.courant, cb.courant}, {ca.bulk_linear, cb.bulk_linear},
+        {ca.bulk_quadratic, cb.bulk_quadratic}, {ca.anp_element_fraction, cb.anp_element_fraction},
+        {ca.dt_growth, cb.dt_growth}, {ca.dt_min, cb.dt_min}})
+    CHECK(same(u, v));
+  CHECK(same(ca.average_nodal_pressure, cb.average_nodal_pressure));
+  const SphControls &xa = wa.controls, &xb = wb.controls;
+  for (auto [u, v] : {std::pair{xa.kappa, xb.kappa}, {xa.av_alpha, xb.av_alpha},
+                      {xa.av_beta, xb.av_beta}, {xa.as_epsilon, xb.as_epsilon},
+                      {xa.max_condition, xb.max_condition}, {xa.dt_factor, xb.dt_factor},
+                      {xa.verlet_skin, xb.verlet_skin}})
+    CHECK(same(u, v));
+  CHECK(same(xa.artificial_stress, xb.artificial_stress));
+  CHECK(same(xa.min_neighbours, xb.min_neighbours));
+  CHECK(same(xa.as_exponent, xb.as_exponent));
+  CHECK(same(xa.contact_passes, xb.contact_passes));
+  CHECK(same(xa.order_interval, xb.order_interval));
+
+  const EnergyBudget &ga = a.energy, &gb = b.energy;
+  for (auto [u, v] :
+       {std::pair{ga.kinetic, gb.kinetic}, {ga.internal, gb.internal},
+        {ga.bulk_viscosity, gb.bulk_viscosity}, {ga.artificial_viscosity, gb.artificial_viscosity},
+        {ga.plastic_work, gb.plastic_work}, {ga.contact, gb.contact},
+        {ga.contact_through_half, gb.contact_through_half}, {ga.eroded, gb.eroded},
+        {ga.conversion, gb.conversion}, {ga.initial, gb.initial},
+        {ga.kinetic_half, gb.kinetic_half}, {ga.time, gb.time}})
+    CHECK(same(u, v));
+  CHECK(same(ga.momentum, gb.momentum));
+  CHECK(same(a.conversion.eroded, b.conversion.eroded));
+  CHECK(same(a.conversion.converted, b.conversion.converted));
+  CHECK(same(a.conversion.by_damage, b.conversion.by_damage));
+  CHECK(same(a.conversion.by_safety, b.conversion.by_safety));
+  CHECK(same(a.conversion.eroded_mass, b.conversion.eroded_mass));
+  CHECK(same(a.node_corner_offset, b.node_corner_offset));
+  CHECK(same(a.node_corners, b.node_corners));
+  CHECK(same(a.corner_force, b.corner_force));
+  CHECK(same(a.time, b.time));
+  CHECK(same(a.dt, b.dt));
+  CHECK(same(a.step, b.step));
+  CHECK(same(a.dt_limiter, b.dt_limiter));
+
+  CHECK(same(ra.scene_text, rb.scene_text));
+  CHECK(ra.overrides == rb.overrides);
+  CHECK(same(ra.scene_path, rb.scene_path));
+  CHECK(same(ra.material_library, rb.material_library));
+  CHECK(same(ra.series_outputs, rb.series_outputs));
+  CHECK(same(ra.output_index, rb.output_index));
+  CHECK(same(ra.next_output, rb.next_output));
+  CHECK(same(ra.next_checkpoint, rb.next_checkpoint));
+  CHECK(same(ra.history_rows, rb.history_rows));
+  CHECK(same(ra.crossings_projectile, rb.crossings_projectile));
+  REQUIRE(rb.crossings.size() == 1);
+  const PlateCrossing &x = ra.crossings[0], &y = rb.crossings[0];
+  CHECK(same(x.body, y.body));
+  CHECK(same(x.name, y.name));
+  CHECK(same(x.normal, y.normal));
+  CHECK(same(x.front, y.front));
+  CHECK(same(x.velocity, y.velocity));
+  CHECK(same(x.through_velocity, y.through_velocity));
+  for (auto [u, v] : {std::pair{x.thickness, y.thickness}, {x.measure_depth, y.measure_depth},
+                      {x.t_contact, y.t_contact}, {x.t_measured, y.t_measured},
+                      {x.speed, y.speed}, {x.mass_fraction, y.mass_fraction},
+                      {x.through_mass_fraction, y.through_mass_fraction}})
+    CHECK(same(u, v));
+}
+
+TEST_CASE("a checkpoint whose parts do not fit together is refused naming the part",
+          "[unit][checkpoint]") {
+  // A damaged or hand-edited file must stop the restart with a message, not let step() index
+  // out of its arrays. Each case breaks one rule of the reader's consistency check, by one
+  // (an index equal to the count, a length one short or one long).
+  const Model& good = splitRun().first;
+  REQUIRE(good.particles.size() > 0);
+  REQUIRE(good.sph.neighbours.pairs() > 0);
+  const int nn = static_cast<int>(good.nodes.size());
+  const int tied = [&] {
+    for (std::size_t i = 0; i < good.particles.size(); ++i)
+      if (good.particles.tie[i].active()) return static_cast<int>(i);
+    return -1;
+  }();
+  REQUIRE(tied >= 0);
+  struct Case {
+    const char* what;  ///< the part the message must name
+    std::function<void(Model&)> damage;
+  };
+  const std::vector<Case> cases = {
+      {"node arrays of different lengths", [](Model& m) { m.nodes.x0.pop_back(); }},
+      {"element status", [](Model& m) { m.elems.status[0] = static_cast<ElemStatus>(3); }},
+      {"element connectivity", [=](Model& m) { m.elems.conn[0][2] = nn; }},
+      {"particle tie", [=](Model& m) { m.particles.tie[tied].face[1] = nn; }},
+      {"particle tie", [=](Model& m) { m.particles.tie[tied].face[2] = -1; }},
+      {"neighbour list", [](Model& m) {
+         m.sph.neighbours.index[0] = static_cast<int>(m.particles.size());
+       }},
+      {"SPH snapshot of more particles than the model has", [](Model& m) {
+         m.sph.current.resize(m.particles.size() + 1);
+       }},
+      {"node corner lists", [](Model& m) { m.node_corners.pop_back(); }},
+      {"body ranges", [](Model& m) { m.bodies[0].elem_end = m.elems.size() + 1; }},
+  };
+  testing::TempFolder dir("inconsistent_checkpoints");
+  const std::string path = (dir.path / "damaged.h5").string();
+  for (const Case& c : cases) {
+    INFO(c.what);
+    Model m = good;
+    c.damage(m);
+    writeCheckpoint(path, m, RunProgress{});
+    std::string error;
+    try {
+      RunProgress p;
+      readCheckpoint(path, p);
+    } catch (const RunError& e) {
+      error = e.what();
+    }
+    INFO(error);
+    CHECK(error.find(path + ": inconsistent checkpoint: " + c.what) != std::string::npos);
+  }
+  // What the file itself lays out: a list of groups longer than any model holds, and rows
+  // whose offsets run backwards.
+  writeCheckpoint(path, good, RunProgress{});
+  for (const auto& [edit, what] :
+       {std::pair<std::function<void(const h5::Handle&)>, std::string>{
+            [](const h5::Handle& f) {
+              h5::writeAttribute(h5::openGroup(f, "materials"), "count", std::int64_t{2000000});
+            },
+            "bad count count"},
+        {[](const h5::Handle& f) {
+           const h5::Handle s = h5::openGroup(f, "surfaces");
+           const auto [rows, cols] = h5::arrayShape(s, "slave_nodes_offset");
+           REQUIRE(rows >= 3);
+           std::vector<std::size_t> offset(rows);
+           h5::readArray(s, "slave_nodes_offset", h5::nativeType<std::size_t>(), offset.data());
+           offset[1] = offset[2] + 1;  // row 0 ends after row 1 does
+           REQUIRE(H5Ldelete(s.id(), "slave_nodes_offset", H5P_DEFAULT) >= 0);
+           h5::writeArray(s, "slave_nodes_offset", h5::nativeType<std::size_t>(), offset.data(),
+                          rows, cols);
+         },
+         "bad row offsets of slave_nodes"}}) {
+    INFO(what);
+    const std::string copy = (dir.path / "edited.h5").string();
+    fs::copy_file(path, copy, fs::copy_options::overwrite_existing);
+    {
+      const h5::Handle f = h5::openFile(copy, h5::Mode::ReadWrite);
+      edit(f);
+    }
+    std::string error;
+    try {
+      RunProgress p;
+      readCheckpoint(copy, p);
+    } catch (const RunError& e) {
+      error = e.what();
+    }
+    INFO(error);
+    CHECK(error.find(what) != std::string::npos);
+  }
+}
+
+TEST_CASE("pruning keeps the newest checkpoints by step and no other file", "[unit][checkpoint]") {
+  // output.checkpoints_kept (README): the newest N checkpoints stay in the run folder. Names
+  // carry the step zero-padded to 9 digits, so name order is step order; files that only look
+  // like checkpoints (a temporary being written, another width) are not theirs to delete.
+  testing::TempFolder dir("prune_checkpoints");
+  const std::string folder = dir.path.string();
+  for (long step : {100, 5, 20}) std::ofstream(checkpointPath(folder, step)) << step;
+  const std::vector<std::string> others = {"checkpoint_000000003.h5.tmp", "checkpoint_12.h5",
+                                           "checkpoint_0000000001.h5", "history.csv"};
+  for (const std::string& name : others) std::ofstream(dir.path / name) << name;
+  CHECK(fs::path(checkpointPath(folder, 5)).filename() == "checkpoint_000000005.h5");
+  CHECK(listCheckpoints(folder) == std::vector<std::string>{checkpointPath(folder, 5),
+                                                            checkpointPath(folder, 20),
+                                                            checkpointPath(folder, 100)});
+  pruneCheckpoints(folder, 3);
+  CHECK(listCheckpoints(folder).size() == 3);
+  pruneCheckpoints(folder, 2);
+  CHECK(listCheckpoints(folder) ==
+        std::vector<std::string>{checkpointPath(folder, 20), checkpointPath(folder, 100)});
+  pruneCheckpoints(folder, 1);
+  CHECK(listCheckpoints(folder) == std::vector<std::string>{checkpointPath(folder, 100)});
+  for (const std::string& name : others) CHECK(fs::exists(dir.path / name));
 }
 
 TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit-identically",
