@@ -151,6 +151,18 @@ TEST_CASE("material library errors name file, line and the fix", "[unit][materia
     const InputError e = loadError("status.toml", text);
     CHECK(e.line() == 3);
   }
+  SECTION("a damage table without one of its five constants") {
+    // A new [damage] table has no base to take a constant from: each of D1-D5 is required.
+    for (const char* missing : {"D1", "D3", "D5"}) {
+      std::string table = "[iron.damage]\nD1 = 0.05\nD2 = 3.44\nD3 = -2.12\nD4 = 0.002\nD5 = 0.61\n";
+      table.erase(table.find(missing), table.find('\n', table.find(missing)) - table.find(missing) + 1);
+      const InputError e = loadError("damage.toml", std::string(kValid) + table);
+      INFO(e.what());
+      CHECK(e.line() == 14);  // the [iron.damage] header
+      CHECK(std::string(e.what()).find(std::string("missing key '") + missing + "'") !=
+            std::string::npos);
+    }
+  }
   SECTION("c0 on a linear EOS") {
     const InputError e = loadError(
         "lin.toml", std::string(kValid) + "[iron.eos]\ntype = \"linear\"\nc0 = 4570.0\n");

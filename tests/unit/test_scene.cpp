@@ -528,8 +528,10 @@ TEST_CASE("each bound of a scene value lies where its message puts it", "[unit][
       {{}, "'copper_taylor_benchmark' is not used by any body",
        "[materials.copper_taylor_benchmark]\ndensity = 8900.0\n"},
       {{}, "[materials.A36] must be a table", "[materials]\nA36 = 3\n"},
-      // a typo two edits away still gets its suggestion
+      // typos two edits away (two letters swapped, two letters wrong) still get their
+      // suggestion
       {{"simulation.end_tiem=1e-6"}, "did you mean 'end_time'?"},
+      {{"simulation.ebd_tine=1e-6"}, "did you mean 'end_time'?"},
   };
   for (const Case& c : cases) {
     std::string set;
@@ -592,4 +594,21 @@ TEST_CASE("the mesh size limit counts the refined disc and the coarse rest", "[u
         CHECK(error.find("'mesh_size' gives about") != std::string::npos);
     }
   }
+}
+
+TEST_CASE("a body's rotation turns it by angle_deg about its axis", "[unit][scene]") {
+  // rotation = { axis, angle_deg }: right-handed, in degrees, about the axis through the
+  // body's local origin; the axis need not be a unit vector. 90 degrees about z takes x to y;
+  // 25 degrees about y (the oblique scene) takes z to (sin 25, 0, cos 25).
+  const auto rotated = [](const std::string& rotation, const Vec3& v) {
+    const Scene sc = loadScene(writeScene("rotation.toml", kGoodScene),
+                               {"bodies.bar.rotation=" + rotation}, library());
+    return Vec3(sc.bodies[0].placement.rotation * v);
+  };
+  CHECK((rotated("{axis = [0, 0, 2], angle_deg = 90}", Vec3::UnitX()) - Vec3::UnitY()).norm() <
+        1e-15);
+  const double a = 25 * M_PI / 180;
+  CHECK((rotated("{axis = [0, 3, 0], angle_deg = 25}", Vec3::UnitZ()) -
+         Vec3(std::sin(a), 0, std::cos(a)))
+            .norm() < 1e-15);
 }
