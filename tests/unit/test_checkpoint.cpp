@@ -202,6 +202,17 @@ void restoreVolumeRate(const Model& first, Model& continued) {
   continued.sph.current.volume_rate = first.sph.current.volume_rate;
 }
 
+/// The message of the RunError that reading the checkpoint `path` throws; empty when it reads.
+std::string checkpointError(const std::string& path) {
+  try {
+    RunProgress p;
+    readCheckpoint(path, p);
+  } catch (const RunError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST_CASE("a run continued from a checkpoint is bit-identical to an unbroken run",
@@ -569,13 +580,7 @@ TEST_CASE("a checkpoint whose parts do not fit together is refused naming the pa
     Model m = good;
     c.damage(m);
     writeCheckpoint(path, m, RunProgress{});
-    std::string error;
-    try {
-      RunProgress p;
-      readCheckpoint(path, p);
-    } catch (const RunError& e) {
-      error = e.what();
-    }
+    const std::string error = checkpointError(path);
     INFO(error);
     CHECK(error.find(path + ": inconsistent checkpoint: " + c.what) != std::string::npos);
   }
@@ -607,13 +612,7 @@ TEST_CASE("a checkpoint whose parts do not fit together is refused naming the pa
       const h5::Handle f = h5::openFile(copy, h5::Mode::ReadWrite);
       edit(f);
     }
-    std::string error;
-    try {
-      RunProgress p;
-      readCheckpoint(copy, p);
-    } catch (const RunError& e) {
-      error = e.what();
-    }
+    const std::string error = checkpointError(copy);
     INFO(error);
     CHECK(error.find(what) != std::string::npos);
   }
@@ -957,21 +956,12 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
   const std::string good = (dir.path / "good.h5").string();
   writeCheckpoint(good, model, RunProgress{});
 
-  auto error = [](const std::string& path) -> std::string {
-    try {
-      RunProgress p;
-      readCheckpoint(path, p);
-    } catch (const RunError& e) {
-      return e.what();
-    }
-    return "";
-  };
   SECTION("not a bad one: a checkpoint written before the first step reads back") {
     REQUIRE(model.step == 0);
-    REQUIRE(error(good).empty());
+    REQUIRE(checkpointError(good).empty());
   }
   SECTION("missing") {
-    const std::string what = error((dir.path / "nope.h5").string());
+    const std::string what = checkpointError((dir.path / "nope.h5").string());
     REQUIRE(what.find("nope.h5: no such file") != std::string::npos);
     // The command line reports it as bad input, exit code 2.
     REQUIRE(shell(runCmd("--restart " + (dir.path / "nope.h5").string(), dir.path / "log")) == 2);
@@ -982,7 +972,7 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
     for (std::size_t keep : {bytes.size() / 2, bytes.size() - 1, std::size_t{100}}) {
       const std::string cut = (dir.path / "cut.h5").string();
       std::ofstream(cut, std::ios::binary) << bytes.substr(0, keep);
-      const std::string what = error(cut);
+      const std::string what = checkpointError(cut);
       INFO(keep << " bytes: " << what);
       REQUIRE(what.rfind(cut + ":", 0) == 0);
       REQUIRE((what.find("truncated") != std::string::npos ||
@@ -992,7 +982,7 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
   SECTION("not HDF5") {
     const std::string text = (dir.path / "text.h5").string();
     std::ofstream(text) << "title = \"a scene, not a checkpoint\"\n";
-    REQUIRE(error(text).find("not an HDF5 file") != std::string::npos);
+    REQUIRE(checkpointError(text).find("not an HDF5 file") != std::string::npos);
   }
   SECTION("an HDF5 file of something else") {
     const std::string other = (dir.path / "other.h5").string();
@@ -1000,14 +990,15 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
       const h5::Handle f = h5::openFile(other, h5::Mode::Create);
       h5::writeAttribute(f, "title", std::string("not ours"));
     }
-    REQUIRE(error(other).find("not a fesph checkpoint") != std::string::npos);
+    REQUIRE(checkpointError(other).find("not a fesph checkpoint") != std::string::npos);
   }
   SECTION("a checkpoint of another format version") {
     {
       const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
       h5::writeAttribute(f, "format_version", std::int64_t{1});
     }
-    REQUIRE(error(good).find("checkpoint format version 1, this fesph reads versions 2 to") !=
+    const std::string what = checkpointError(good);
+    REQUIRE(what.find("checkpoint format version 1, this fesph reads versions 2 to") !=
             std::string::npos);
   }
   SECTION("a checkpoint with an array missing") {
@@ -1015,7 +1006,7 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
       const h5::Handle f = h5::openFile(good, h5::Mode::ReadWrite);
       REQUIRE(H5Ldelete(f.id(), "/elements/conn", H5P_DEFAULT) >= 0);
     }
-    const std::string what = error(good);
+    const std::string what = checkpointError(good);
     INFO(what);
     REQUIRE(what.find("/elements/conn") != std::string::npos);
     REQUIRE(what.find("missing") != std::string::npos);
@@ -1028,7 +1019,8 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
       const double one = 1.0;
       h5::writeArray(nodes, "m", H5T_NATIVE_DOUBLE, &one, 1, 1);
     }
-    REQUIRE(error(good).find("inconsistent checkpoint: node arrays") != std::string::npos);
+    REQUIRE(checkpointError(good).find("inconsistent checkpoint: node arrays") !=
+            std::string::npos);
   }
   SECTION("a checkpoint whose SPH snapshot arrays do not fit together") {
     {  // the snapshot of a model without particles is empty: one volume too many
@@ -1038,7 +1030,7 @@ TEST_CASE("missing, truncated and foreign checkpoints give clear errors", "[unit
       const double volume = 1e-9;
       h5::writeArray(current, "V", H5T_NATIVE_DOUBLE, &volume, 1, 1);
     }
-    const std::string what = error(good);
+    const std::string what = checkpointError(good);
     INFO(what);
     REQUIRE(what.find("inconsistent checkpoint: SPH snapshot arrays of different lengths") !=
             std::string::npos);

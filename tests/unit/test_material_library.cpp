@@ -154,8 +154,10 @@ TEST_CASE("material library errors name file, line and the fix", "[unit][materia
   SECTION("a damage table without one of its five constants") {
     // A new [damage] table has no base to take a constant from: each of D1-D5 is required.
     for (const char* missing : {"D1", "D3", "D5"}) {
-      std::string table = "[iron.damage]\nD1 = 0.05\nD2 = 3.44\nD3 = -2.12\nD4 = 0.002\nD5 = 0.61\n";
-      table.erase(table.find(missing), table.find('\n', table.find(missing)) - table.find(missing) + 1);
+      std::string table =
+          "[iron.damage]\nD1 = 0.05\nD2 = 3.44\nD3 = -2.12\nD4 = 0.002\nD5 = 0.61\n";
+      const std::size_t at = table.find(missing);
+      table.erase(at, table.find('\n', at) - at + 1);  // the line that sets it
       const InputError e = loadError("damage.toml", std::string(kValid) + table);
       INFO(e.what());
       CHECK(e.line() == 14);  // the [iron.damage] header

@@ -322,38 +322,6 @@ TEST_CASE("the scene as run reloads to the same scene", "[unit][scene]") {
   CHECK(sc.source.find("velocity = [0, 0, -100]") != std::string::npos);
 }
 
-TEST_CASE("[reference] needs one positive velocity per plate", "[unit][scene]") {
-  const std::string plate = R"(
-[[bodies]]
-name = "plate"
-material = "A36"
-position = [0, 0, -5e-3]
-[bodies.shape]
-type = "plate"
-size_x = 20e-3
-size_y = 20e-3
-thickness = 2e-3
-mesh_size = 2e-3
-)";
-  const std::string base = std::string(kGoodScene) + plate;
-  const Scene ok = loadScene(writeScene("ref_ok.toml", base + "[reference]\nexperiment = [900.5]\n"
-                                                             "[reference.published]\n\"x\" = [1e3]\n"),
-                             {}, library());
-  CHECK(ok.reference.experiment == std::vector<double>{900.5});
-  REQUIRE(ok.reference.published.size() == 1);
-  CHECK(ok.reference.published[0].first == "x");
-  for (const char* bad : {"experiment = [900.5, 800.0]", "experiment = [-3.0]",
-                          "experiment = 900.5"}) {
-    INFO(bad);
-    try {
-      loadScene(writeScene("ref_bad.toml", base + "[reference]\n" + bad + "\n"), {}, library());
-      FAIL("no error");
-    } catch (const InputError& e) {
-      CHECK(e.line() == 25);  // 12 lines, a blank, the plate's 10, [reference], the value
-    }
-  }
-}
-
 namespace {
 
 // kGoodScene's bar and, 5 mm below its nose, a plate that names only the keys it must.
@@ -382,6 +350,26 @@ std::string loadError(const std::string& name, const std::string& text,
 }
 
 }  // namespace
+
+TEST_CASE("[reference] needs one positive velocity per plate", "[unit][scene]") {
+  const std::string& base = kBarAndPlate;
+  const Scene ok = loadScene(writeScene("ref_ok.toml", base + "[reference]\nexperiment = [900.5]\n"
+                                                             "[reference.published]\n\"x\" = [1e3]\n"),
+                             {}, library());
+  CHECK(ok.reference.experiment == std::vector<double>{900.5});
+  REQUIRE(ok.reference.published.size() == 1);
+  CHECK(ok.reference.published[0].first == "x");
+  for (const char* bad : {"experiment = [900.5, 800.0]", "experiment = [-3.0]",
+                          "experiment = 900.5"}) {
+    INFO(bad);
+    try {
+      loadScene(writeScene("ref_bad.toml", base + "[reference]\n" + bad + "\n"), {}, library());
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.line() == 24);  // 12 lines, the plate's 10, [reference], the value
+    }
+  }
+}
 
 TEST_CASE("a scene that leaves the optional keys out gets the README's defaults",
           "[unit][scene]") {
@@ -553,7 +541,9 @@ TEST_CASE("the mesh size limit counts the refined disc and the coarse rest", "[u
   // by default half the larger side) counts that disc at mesh_size and all of it at
   // coarse_size. Just under the limit loads, just over it is refused.
   const double limit = 50e6;
-  const auto tets = [](double volume, double h) { return volume / (h * h * h / (6 * std::sqrt(2.0))); };
+  const auto tets = [](double volume, double h) {
+    return volume / (h * h * h / (6 * std::sqrt(2.0)));
+  };
   const auto shape = [](const std::string& key, double x) {
     std::ostringstream s;
     s << std::setprecision(17) << "bodies.plate.shape." << key << "=" << x;
