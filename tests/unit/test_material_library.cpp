@@ -209,6 +209,25 @@ TEST_CASE("an override table changes only its keys", "[unit][material]") {
   CHECK(m.eos == base.eos);
   CHECK(m.c0 == base.c0);
   CHECK(m.s == base.s);
+  // A [johnson_cook] override keeps the base's reference rate where that is not 1/s (Weldox
+  // 460 E: 5e-4 /s, Borvik et al.).
+  const Material& weldox = lib.get("weldox_460E");
+  REQUIRE(weldox.eps_dot0 != 1.0);
+  const toml::table jc = tomlcheck::parseText("[johnson_cook]\nA = 500e6\n", "scene.toml");
+  const Material w = parseMaterial(jc, "scene.toml", weldox, "weldox_460E");
+  CHECK(w.A == 500e6);
+  CHECK(w.eps_dot0 == weldox.eps_dot0);
+  // The optional values (heat, temperatures, Taylor-Quinney, erosion) too, where the base's
+  // are not the fallbacks a new material gets.
+  Material odd = base;
+  odd.cp = 401.0, odd.T_room = 301.0, odd.T_melt = 1701.0, odd.taylor_quinney = 0.81,
+  odd.erosion_strain = 1.7;
+  const Material o = parseMaterial(jc, "scene.toml", odd, "steel_1020");
+  CHECK(o.cp == odd.cp);
+  CHECK(o.T_room == odd.T_room);
+  CHECK(o.T_melt == odd.T_melt);
+  CHECK(o.taylor_quinney == odd.taylor_quinney);
+  CHECK(o.erosion_strain == odd.erosion_strain);
   // An empty override is the base itself; a bad override value is located in the scene file.
   const Material same = parseMaterial(toml::table{}, "scene.toml", base, "steel_1020");
   CHECK(same.A == base.A);

@@ -602,3 +602,56 @@ TEST_CASE("a body's rotation turns it by angle_deg about its axis", "[unit][scen
          Vec3(std::sin(a), 0, std::cos(a)))
             .norm() < 1e-15);
 }
+
+TEST_CASE("fixed boundaries hold the rim and a closed box, and symmetry planes add their bits",
+          "[unit][scene]") {
+  // A half model (plane y = 0) with a second plane x = 0: the plate's rim is held in every
+  // direction, also where it meets a plane; a box holds the nodes inside it and on its faces
+  // (its corner is put on a node of the bar); each plane holds the velocity component normal
+  // to it, and a node on both planes (the bar's axis) keeps both.
+  const std::string planes = std::string("\n[[boundary]]\ntype = \"symmetry\"\naxis = \"x\"\n") +
+                             "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"rim\"\n";
+  const std::vector<std::string> half = {"simulation.symmetry=\"half\""};
+  const Model first =
+      buildModel(loadScene(writeScene("fixed.toml", kBarAndPlate + planes), half, library()));
+  // a node of the bar off both planes: the box's lower corner
+  std::size_t corner = 0;
+  for (std::size_t a = first.bodies[0].node_begin; a < first.bodies[0].node_end; ++a)
+    if (first.nodes.x[a].x() > 1e-4 && first.nodes.x[a].y() > 1e-4) corner = a;
+  REQUIRE(corner > 0);
+  const Vec3 lo = first.nodes.x[corner], hi = lo + Vec3::Constant(1e-3);
+  std::ostringstream box;
+  box << std::setprecision(17) << "[[boundary]]\ntype = \"fixed\"\nbody = \"bar\"\nwhere = \"box\"\n"
+      << "min = [" << lo.x() << ", " << lo.y() << ", " << lo.z() << "]\nmax = [" << hi.x() << ", "
+      << hi.y() << ", " << hi.z() << "]\n";
+  const Model m = buildModel(
+      loadScene(writeScene("fixed_box.toml", kBarAndPlate + planes + box.str()), half, library()));
+  REQUIRE(m.nodes.x == first.nodes.x);  // the same meshes
+
+  double extent = 0;
+  for (const Vec3& x : m.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
+  const double on_plane = 1e-9 * extent, on_rim = 1e-6 * 30e-3;
+  int rim = 0, boxed = 0, both_planes = 0;
+  for (std::size_t a = 0; a < m.nodes.size(); ++a) {
+    const Vec3& x = m.nodes.x[a];
+    std::uint8_t expected = 0;
+    if (m.nodes.body[a] == 1 && (std::abs(std::abs(x.x()) - 10e-3) < on_rim ||
+                                 std::abs(x.y() - 15e-3) < on_rim)) {
+      expected = 0b111;
+      ++rim;
+    }
+    if (m.nodes.body[a] == 0 && (x - lo).minCoeff() >= 0 && (hi - x).minCoeff() >= 0) {
+      expected = 0b111;
+      ++boxed;
+    }
+    if (std::abs(x.x()) < on_plane) expected |= 0b001;
+    if (std::abs(x.y()) < on_plane) expected |= 0b010;
+    both_planes += std::abs(x.x()) < on_plane && std::abs(x.y()) < on_plane;
+    INFO("node " << a << " at " << x.transpose());
+    CHECK(int(m.nodes.fix[a]) == int(expected));
+  }
+  CHECK(m.nodes.fix[corner] == 0b111);  // on the box's corner
+  CHECK(rim > 0);
+  CHECK(boxed > 0);
+  CHECK(both_planes > 0);
+}
