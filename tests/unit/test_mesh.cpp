@@ -3,6 +3,9 @@
 // the .msh reader (valid 2.2 / 4.1 files, located errors) and the quality figures.
 #include "core/common/error.hpp"
 #include "core/mesh/mesh.hpp"
+#include "core/sph/particle_body.hpp"
+#include "core/state/model_build.hpp"
+#include "tests/support/models.hpp"
 
 #include <catch2/catch.hpp>
 #include <omp.h>
@@ -389,4 +392,73 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
     for (int i = 0; i < 300 && std::getline(in, line); ++i) text += line + "\n";
     CHECK(readError("truncated41.msh", text).line() == 300);  // inside $Elements
   }
+}
+
+TEST_CASE("a flat or inverted tetrahedron, a loose node or an empty particle is refused",
+          "[unit][mesh]") {
+  // What a hand-made or converted mesh can hold and a run cannot: a tetrahedron of no or
+  // negative volume (its stiffness and step are undefined), a node in no tetrahedron (no
+  // mass), a particle of no volume. Each is refused by name before any step.
+  const auto error = [](const std::vector<Vec3>& nodes, const std::array<int, 4>& tet) {
+    Model model;
+    model.materials.push_back(testing::elasticMaterial());
+    try {
+      addBody(model, "b", TetMesh{nodes, {tet}}, 0, Placement{}, Vec3::Zero(), false);
+      finaliseModel(model);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const double s = 1e-3;
+  const std::vector<Vec3> corners = {Vec3(0, 0, 0), Vec3(s, 0, 0), Vec3(0, s, 0), Vec3(0, 0, s)};
+  CHECK(error(corners, {0, 1, 2, 3}).empty());
+  CHECK(error({corners[0], corners[1], corners[2], Vec3(s, s, 0)}, {0, 1, 2, 3})
+            .find("body 'b': tetrahedron 0 has non-positive volume") != std::string::npos);
+  CHECK(error(corners, {1, 0, 2, 3}).find("tetrahedron 0 has non-positive volume") !=
+        std::string::npos);
+  std::vector<Vec3> loose = corners;
+  loose.push_back(Vec3(s, s, s));
+  CHECK(error(loose, {0, 1, 2, 3}).find("node 4 of body 'b' belongs to no tetrahedron") !=
+        std::string::npos);
+
+  Model model;
+  model.materials.push_back(testing::elasticMaterial());
+  CHECK_NOTHROW(addParticleBody(model, "p", {Vec3::Zero()}, {1e-9}, 0, Vec3::Zero(), false, 1.3));
+  try {
+    addParticleBody(model, "q", {Vec3::Zero(), Vec3::UnitX()}, {1e-9, 0.0}, 0, Vec3::Zero(),
+                    false, 1.3);
+    FAIL("a particle of no volume accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("body 'q': particle 1 has non-positive volume") !=
+          std::string::npos);
+  }
+}
+
+TEST_CASE("a body's mass and mean velocity count its own points, which start at room temperature",
+          "[unit][mesh]") {
+  // bodyMass and bodyMeanVelocity (the history's body velocities, the residual velocity's
+  // mass fractions): a tetrahedron of elements and two particle bodies, each its own.
+  Model model;
+  model.materials.push_back(testing::elasticMaterial(8000));
+  model.materials[0].T_room = 250.0;  // not PointState's default
+  const double s = 1e-3;
+  addBody(model, "tet", TetMesh{{Vec3(0, 0, 0), Vec3(s, 0, 0), Vec3(0, s, 0), Vec3(0, 0, s)},
+                                {{0, 1, 2, 3}}},
+          0, Placement{}, Vec3(1, 0, 0), false);
+  addParticleBody(model, "p", {Vec3(0, 0, 1), Vec3(0, 0, 2)}, {1e-9, 3e-9}, 0, Vec3(0, 2, 0),
+                  false, 1.3);
+  addParticleBody(model, "q", {Vec3(0, 0, 3)}, {5e-9}, 0, Vec3(0, 0, 4), true, 1.3);
+  finaliseModel(model);
+  model.particles.v[1] = Vec3(0, 6, 0);  // p: 1e-9 at 2 m/s, 3e-9 at 6 m/s
+  const double rho = 8000, tet = s * s * s / 6;
+  CHECK(bodyMass(model, 0) == Approx(rho * tet).epsilon(1e-14));
+  CHECK(bodyMass(model, 1) == Approx(rho * 4e-9).epsilon(1e-14));
+  CHECK(bodyMass(model, 2) == Approx(rho * 5e-9).epsilon(1e-14));
+  CHECK((bodyMeanVelocity(model, 0) - Vec3(1, 0, 0)).norm() < 1e-14);
+  CHECK((bodyMeanVelocity(model, 1) - Vec3(0, 5, 0)).norm() < 1e-14);  // (2 + 3 x 6) / 4
+  CHECK((bodyMeanVelocity(model, 2) - Vec3(0, 0, 4)).norm() < 1e-14);
+  // every point starts at its material's room temperature
+  CHECK(model.elems.state[0].T == 250.0);
+  for (const PointState& st : model.particles.state) CHECK(st.T == 250.0);
 }
