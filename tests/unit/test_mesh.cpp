@@ -435,7 +435,7 @@ TEST_CASE("a flat or inverted tetrahedron, a loose node or an empty particle is 
   }
 }
 
-TEST_CASE("a body's mass and mean velocity count its own points, which start at room temperature",
+TEST_CASE("a body's mass and velocity count its own points, which start in the rest state",
           "[unit][mesh]") {
   // bodyMass and bodyMeanVelocity (the history's body velocities, the residual velocity's
   // mass fractions): a tetrahedron of elements and two particle bodies, each its own.
@@ -448,7 +448,7 @@ TEST_CASE("a body's mass and mean velocity count its own points, which start at 
           0, Placement{}, Vec3(1, 0, 0), false);
   addParticleBody(model, "p", {Vec3(0, 0, 1), Vec3(0, 0, 2)}, {1e-9, 3e-9}, 0, Vec3(0, 2, 0),
                   false, 1.3);
-  addParticleBody(model, "q", {Vec3(0, 0, 3)}, {5e-9}, 0, Vec3(0, 0, 4), true, 1.3);
+  addParticleBody(model, "q", {Vec3(0, 0, 3)}, {5e-9}, 0, Vec3(0, 0, 4), true, 1.5);
   finaliseModel(model);
   model.particles.v[1] = Vec3(0, 6, 0);  // p: 1e-9 at 2 m/s, 3e-9 at 6 m/s
   const double rho = 8000, tet = s * s * s / 6;
@@ -461,4 +461,9 @@ TEST_CASE("a body's mass and mean velocity count its own points, which start at 
   // every point starts at its material's room temperature
   CHECK(model.elems.state[0].T == 250.0);
   for (const PointState& st : model.particles.state) CHECK(st.T == 250.0);
+  // particles at their material's density exactly (8000 x 1e-9 / 1e-9 is not 8000 in
+  // doubles: no pressure at rest), h = kappa cbrt(V) with the body's kappa
+  for (double rho : model.particles.rho) CHECK(rho == 8000.0);
+  CHECK(model.particles.h[0] == Approx(1.3 * std::cbrt(1e-9)).epsilon(1e-15));
+  CHECK(model.particles.h[2] == Approx(1.5 * std::cbrt(5e-9)).epsilon(1e-15));
 }
