@@ -181,6 +181,23 @@ TEST_CASE("meshQuality of a regular tetrahedron", "[unit][mesh]") {
 
 // ---- plates ----------------------------------------------------------------------------
 
+TEST_CASE("meshQuality of a corner tetrahedron, and of an inverted one", "[unit][mesh]") {
+  // The unit corner tet (origin and the three unit points): V = 1/6, sum of squared edges
+  // 3 + 3 x 2 = 9, so q = 12 (1/2)^(2/3) / 9; dihedral angles 90 deg at the three edges
+  // through the origin and acos(1/sqrt 3) = 54.7356 deg at the other three. Turned inside out
+  // (two nodes swapped) its shape quality counts as 0 and its volume as -1/6.
+  const TetMesh corner{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2, 3}}};
+  const MeshQuality q = meshQuality(corner);
+  CHECK(q.min_quality == Approx(12.0 * std::cbrt(0.25) / 9.0).epsilon(1e-12));
+  const double shallow = std::acos(1.0 / std::sqrt(3.0)) * 180.0 / M_PI;
+  CHECK(q.min_dihedral_deg == Approx(shallow).epsilon(1e-12));
+  CHECK(q.volume == Approx(1.0 / 6.0).epsilon(1e-12));
+  const TetMesh inverted{corner.nodes, {{1, 0, 2, 3}}};
+  const MeshQuality qi = meshQuality(inverted);
+  CHECK(qi.min_quality == 0.0);
+  CHECK(qi.volume == Approx(-1.0 / 6.0).epsilon(1e-12));
+}
+
 TEST_CASE("meshPlate: graded half plate", "[unit][mesh]") {
   const PlateSpec s = gradedHalfPlate();
   const TetMesh m = meshPlate(s);
