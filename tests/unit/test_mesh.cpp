@@ -399,6 +399,11 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
     CHECK(e.line() == 16);
     CHECK_THAT(e.what(), Catch::Matchers::Contains("undefined node 9"));
   }
+  SECTION("a node defined twice") {  // which of the two would the tets mean?
+    const InputError e = readError("twice.msh", smallMshWith(10, "4 0 0 -1"));
+    CHECK(e.line() == 10);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("node 4 defined twice"));
+  }
   SECTION("zero-volume tet") {  // node 5 moved into the plane of nodes 1, 2, 3
     CHECK(readError("flat.msh", smallMshWith(10, "5 1 1 0")).line() == 16);
   }
