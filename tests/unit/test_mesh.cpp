@@ -181,7 +181,7 @@ TEST_CASE("meshQuality of a regular tetrahedron", "[unit][mesh]") {
 
 // ---- plates ----------------------------------------------------------------------------
 
-TEST_CASE("meshQuality of a corner tetrahedron, and of an inverted one", "[unit][mesh]") {
+TEST_CASE("meshQuality of a corner tetrahedron, a wedge and an inverted one", "[unit][mesh]") {
   // The unit corner tet (origin and the three unit points): V = 1/6, sum of squared edges
   // 3 + 3 x 2 = 9, so q = 12 (1/2)^(2/3) / 9; dihedral angles 90 deg at the three edges
   // through the origin and acos(1/sqrt 3) = 54.7356 deg at the other three. Turned inside out
@@ -192,6 +192,11 @@ TEST_CASE("meshQuality of a corner tetrahedron, and of an inverted one", "[unit]
   const double shallow = std::acos(1.0 / std::sqrt(3.0)) * 180.0 / M_PI;
   CHECK(q.min_dihedral_deg == Approx(shallow).epsilon(1e-12));
   CHECK(q.volume == Approx(1.0 / 6.0).epsilon(1e-12));
+  // A wedge about the z axis (nodes 2, 3 on it, 0 and 1 off it at 0 and atan(0.2) around it):
+  // its smallest dihedral angle is at edge 2-3, between the faces opposite nodes 0 and 1.
+  const TetMesh wedge{{{1, 0, 0}, {1, 0.2, 0.5}, {0, 0, 0}, {0, 0, 1}}, {{0, 1, 2, 3}}};
+  CHECK(meshQuality(wedge).min_dihedral_deg ==
+        Approx(std::atan(0.2) * 180.0 / M_PI).epsilon(1e-12));
   const TetMesh inverted{corner.nodes, {{1, 0, 2, 3}}};
   const MeshQuality qi = meshQuality(inverted);
   CHECK(qi.min_quality == 0.0);
