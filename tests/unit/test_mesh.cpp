@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 using namespace fesph;
@@ -355,6 +356,20 @@ TEST_CASE("readMsh reads Gmsh 4.1 and 2.2 ASCII files", "[unit][mesh]") {
     CHECK((1e-3 * v22.nodes[i] - v41.nodes[i]).norm() < 1e-15);
 }
 
+TEST_CASE("readMsh reads signed coordinates and any number of element tags", "[unit][mesh]") {
+  // Gmsh writes "+1e+00" style numbers in some exports, and 2.2 element lines carry a count
+  // of tags (physical, elementary, partitions...) before the nodes.
+  auto lines = kSmallMsh22;
+  lines.at(9) = "5 +0 -0 -1.0e+0";          // line 10
+  lines.at(14) = "2 4 3 0 1 7 1 2 3 4";     // line 15: three tags
+  lines.at(15) = "3 4 1 0 1 2 3 5";         // line 16: one tag
+  const std::string path = writeTemp("signed.msh", joinLines(lines));
+  const TetMesh m = readMsh(path);
+  std::filesystem::remove(path);
+  REQUIRE(m.tets.size() == 2);
+  CHECK(meshQuality(m).volume == Approx(1.0 / 3.0).epsilon(1e-12));
+}
+
 TEST_CASE("readMsh orients tets and skips other elements", "[unit][mesh]") {
   const std::string path = writeTemp("small.msh", joinLines(kSmallMsh22));
   const TetMesh m = readMsh(path);
@@ -417,6 +432,37 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
     lines.erase(lines.begin() + 14, lines.begin() + 16);  // drop both tets
     lines.at(12) = "1";
     CHECK(readError("notets.msh", joinLines(lines)).line() == 12);
+  }
+  SECTION("a coordinate that is not a finite number") {
+    for (const char* node : {"5 nan 0 -1", "5 0 inf -1"}) {
+      const InputError e = readError("nan.msh", smallMshWith(10, node));
+      CHECK(e.line() == 10);
+      CHECK_THAT(e.what(), Catch::Matchers::Contains("(a finite number)"));
+    }
+  }
+  SECTION("a negative count") {
+    const InputError e = readError("count.msh", smallMshWith(13, "-1"));
+    CHECK(e.line() == 13);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("the number of elements >= 0"));
+  }
+  SECTION("a tetrahedron with five node tags") {
+    const InputError e = readError("five.msh", smallMshWith(16, "3 4 2 0 1 1 2 3 5 4"));
+    CHECK(e.line() == 16);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("expected 4 node tags for tetrahedron 3"));
+  }
+  SECTION("a line outside any section") {
+    auto lines = kSmallMsh22;
+    lines.insert(lines.begin() + 11, "stray text");  // after $EndNodes: line 12
+    const InputError e = readError("stray.msh", joinLines(lines));
+    CHECK(e.line() == 12);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("expected a section header"));
+  }
+  SECTION("a scale that is not a positive finite number") {
+    const std::string path = writeTemp("scale.msh", joinLines(kSmallMsh22));
+    for (double scale : {0.0, -1.0, std::numeric_limits<double>::infinity()})
+      CHECK_THROWS_WITH(readMsh(path, scale),
+                        Catch::Matchers::Contains("mesh scale must be a positive number"));
+    std::filesystem::remove(path);
   }
   SECTION("truncated 4.1 file") {
     std::ifstream in(dataFile("cube_v41.msh"));
