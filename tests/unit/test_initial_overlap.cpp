@@ -34,6 +34,7 @@ Model cubeAnd(const Vec3& origin, const Vec3& size = Vec3::Ones()) {
 TEST_CASE("bodies apart or touching do not overlap", "[unit][scene]") {
   CHECK_FALSE(findInitialOverlap(cubeAnd({1.5, 0, 0})));       // apart
   CHECK_FALSE(findInitialOverlap(cubeAnd({1.0, 0, 0})));       // face to face, node on node
+  CHECK_FALSE(findInitialOverlap(cubeAnd({1.0001, 0, 0})));    // apart by a hair (1e-4)
   CHECK_FALSE(findInitialOverlap(cubeAnd({1.0, 0.375, 0})));   // face to face, nodes on faces
   CHECK_FALSE(findInitialOverlap(cubeAnd({1.0, 1.0, 1.0})));   // corner to corner
   CHECK_FALSE(findInitialOverlap(cubeAnd({0, 0, -0.5}, {1, 1, 0.5})));  // below, face to face
@@ -60,6 +61,7 @@ TEST_CASE("a body moved into another overlaps it, nodes on nodes too", "[unit][s
   REQUIRE(inside);
   CHECK(inside->inner == 1);
   CHECK(inside->points == 27);
+  CHECK(inside->example == Vec3(0.25, 0.25, 0.25));  // the first of them, its first node
 }
 
 TEST_CASE("particles of a particle body inside another body overlap it", "[unit][scene]") {
