@@ -464,6 +464,16 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
                         Catch::Matchers::Contains("mesh scale must be a positive number"));
     std::filesystem::remove(path);
   }
+  SECTION("a 4.1 node block that promises parametric coordinates and lacks them") {
+    // Line 60 of cube_v41.msh opens a block of one node on a curve (dimension 1); with the
+    // parametric flag set, its coordinate line (62) must hold x y z and u.
+    std::ifstream in(dataFile("cube_v41.msh"));
+    std::string text, line;
+    for (int i = 1; std::getline(in, line); ++i) text += (i == 60 ? "1 1 1 1" : line) + "\n";
+    const InputError e = readError("parametric.msh", text);
+    CHECK(e.line() == 62);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("expected node coordinates"));
+  }
   SECTION("truncated 4.1 file") {
     std::ifstream in(dataFile("cube_v41.msh"));
     std::string text, line;
