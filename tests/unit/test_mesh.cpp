@@ -464,7 +464,7 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
                         Catch::Matchers::Contains("mesh scale must be a positive number"));
     std::filesystem::remove(path);
   }
-  SECTION("a 4.1 node block that promises parametric coordinates and lacks them") {
+  SECTION("4.1 node blocks: parametric coordinates promised and missing, a dimension of 4") {
     // Line 60 of cube_v41.msh opens a block of one node on a curve (dimension 1); with the
     // parametric flag set, its coordinate line (62) must hold x y z and u.
     std::ifstream in(dataFile("cube_v41.msh"));
@@ -473,6 +473,12 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
     const InputError e = readError("parametric.msh", text);
     CHECK(e.line() == 62);
     CHECK_THAT(e.what(), Catch::Matchers::Contains("expected node coordinates"));
+    // and a block of an entity of dimension 4 (line 36 opens the first block, on a point)
+    const std::size_t at = text.find("\n0 1 0 1\n");
+    REQUIRE(at != std::string::npos);
+    const InputError d = readError("dimension.msh", text.replace(at + 1, 1, "4"));
+    CHECK(d.line() == 36);
+    CHECK_THAT(d.what(), Catch::Matchers::Contains("expected an entity dimension 0 to 3"));
   }
   SECTION("truncated 4.1 file") {
     std::ifstream in(dataFile("cube_v41.msh"));
