@@ -146,6 +146,14 @@ std::string smallMshFirst(int keep) {
   return joinLines({kSmallMsh22.begin(), kSmallMsh22.begin() + keep});
 }
 
+/// The lines of cube_v41.msh, to be edited into broken 4.1 files.
+std::vector<std::string> cubeV41Lines() {
+  std::ifstream in(dataFile("cube_v41.msh"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
 /// The InputError readMsh throws for `text`; checks that its message names the file.
 InputError readError(const std::string& name, const std::string& text) {
   const std::string path = writeTemp(name, text);
@@ -467,24 +475,25 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
   SECTION("4.1 node blocks: parametric coordinates promised and missing, a dimension of 4") {
     // Line 60 of cube_v41.msh opens a block of one node on a curve (dimension 1); with the
     // parametric flag set, its coordinate line (62) must hold x y z and u.
-    std::ifstream in(dataFile("cube_v41.msh"));
-    std::string text, line;
-    for (int i = 1; std::getline(in, line); ++i) text += (i == 60 ? "1 1 1 1" : line) + "\n";
-    const InputError e = readError("parametric.msh", text);
+    auto lines = cubeV41Lines();
+    REQUIRE(lines.at(59) == "1 1 0 1");
+    lines.at(59) = "1 1 1 1";
+    const InputError e = readError("parametric.msh", joinLines(lines));
     CHECK(e.line() == 62);
     CHECK_THAT(e.what(), Catch::Matchers::Contains("expected node coordinates"));
     // and a block of an entity of dimension 4 (line 36 opens the first block, on a point)
-    const std::size_t at = text.find("\n0 1 0 1\n");
-    REQUIRE(at != std::string::npos);
-    const InputError d = readError("dimension.msh", text.replace(at + 1, 1, "4"));
+    lines = cubeV41Lines();
+    REQUIRE(lines.at(35) == "0 1 0 1");
+    lines.at(35) = "4 1 0 1";
+    const InputError d = readError("dimension.msh", joinLines(lines));
     CHECK(d.line() == 36);
     CHECK_THAT(d.what(), Catch::Matchers::Contains("expected an entity dimension 0 to 3"));
   }
   SECTION("truncated 4.1 file") {
-    std::ifstream in(dataFile("cube_v41.msh"));
-    std::string text, line;
-    for (int i = 0; i < 300 && std::getline(in, line); ++i) text += line + "\n";
-    CHECK(readError("truncated41.msh", text).line() == 300);  // inside $Elements
+    const auto lines = cubeV41Lines();
+    REQUIRE(lines.size() > 300);
+    CHECK(readError("truncated41.msh", joinLines({lines.begin(), lines.begin() + 300})).line() ==
+          300);  // inside $Elements
   }
 }
 
