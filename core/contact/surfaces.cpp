@@ -68,7 +68,6 @@ void refreshFace(Surfaces& s, const Model& model, int f) {
   if (want == have) return;
   if (have >= 0) removeExterior(s, model, f);
   if (want >= 0) addExterior(s, model, f, want);
-  ++s.version;
 }
 
 }  // namespace
@@ -76,9 +75,7 @@ void refreshFace(Surfaces& s, const Model& model, int f) {
 void buildSurfaces(Model& model) {
   const Elements& el = model.elems;
   Surfaces& s = model.surfaces;
-  const std::uint64_t version = s.version;
   s = Surfaces{};
-  s.version = version + 1;
 
   // (sorted key, element, local face), sorted: equal keys become neighbours, in element order.
   struct Entry {

@@ -404,7 +404,6 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   nested(ar, "slave_nodes", s.slave_nodes);
   ar.array("node_face_count", s.node_face_count);
   ar.array("node_slot", s.node_slot);
-  ar.value("version", s.version);
   ar.leave();
 
   ar.enter("sph");

@@ -77,7 +77,6 @@ struct Surfaces {
   std::vector<std::vector<int>> slave_nodes;
   std::vector<int> node_face_count;  ///< exterior faces touching each node
   std::vector<int> node_slot;        ///< position of a node in its body's slave list, -1: none
-  std::uint64_t version = 0;         ///< bumped on every change of the exterior faces
 
   ContactCandidates candidates;
   ContactScratch scratch;

@@ -299,7 +299,6 @@ void setSentinels(Model& m, RunProgress& r) {
   m.conversion.eroded = 38;
   m.conversion.by_safety = 39;
   m.conversion.eroded_mass = 4.1e-3;
-  m.surfaces.version = 42;
   m.dt_limiter = "particle 43";
 
   r.scene_text = "title = \"sentinel\"\n";
@@ -434,7 +433,6 @@ TEST_CASE("every quantity a checkpoint stores reads back bit for bit", "[unit][c
   CHECK(same(sa.slave_nodes, sb.slave_nodes));
   CHECK(same(sa.node_face_count, sb.node_face_count));
   CHECK(same(sa.node_slot, sb.node_slot));
-  CHECK(same(sa.version, sb.version));
 
   const SphWorkspace &wa = a.sph, &wb = b.sph;
   CHECK(same(wa.neighbours.offset, wb.neighbours.offset));
