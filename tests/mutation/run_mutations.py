@@ -55,7 +55,8 @@ def main():
         sys.exit(f"{wt}: the unmutated code does not build")
 
     out = sys.stdout if args.out == "-" else open(args.out, "a")
-    ctest = "ctest --test-dir build -LE slow -j2 --stop-on-failure"
+    # a mutation that makes a test hang is killed by the timeout (a test takes < 2 min here)
+    ctest = "ctest --test-dir build -LE slow -j2 --stop-on-failure --timeout 300"
     for name, file, old, new in json.load(open(args.mutations)):
         path = wt / file
         text = path.read_text()

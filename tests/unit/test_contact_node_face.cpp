@@ -6,6 +6,8 @@
 #include "core/contact/surfaces.hpp"
 #include "core/solver/boundary.hpp"
 #include "core/solver/step.hpp"
+#include "core/sph/particle_body.hpp"
+#include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
 
 #include <catch2/catch.hpp>
@@ -258,5 +260,47 @@ TEST_CASE("a rigid wall lands nodes on it and its friction slows or stops their 
       CHECK(v.x() == Approx(slide).margin(1e-12 * 50));
       CHECK(v.y() == 0.0);
     }
+  }
+}
+
+TEST_CASE("a rigid wall stops particles half their spacing off it", "[unit][contact][sph]") {
+  // Reference: the wall's contract for particles (boundary.cpp): a particle stands for a cube
+  // of its volume, so it ends a step that would take it closer than half its spacing cbrt(V)
+  // on that distance, frictionless; one already closer (born there) is only kept from coming
+  // closer. Particles of 1 mm^3 (spacing 1 mm): from 0.51 mm over the wall at 200 m/s down,
+  // dt 0.1 us, it lands at 0.5 mm; from 0.2 mm it stops; one moving off keeps its velocity.
+  // To round-off (1e-15 m).
+  const double dt = 1e-7, V = 1e-9, half = 0.5e-3;
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  addParticleBody(m, "drops",
+                  {Vec3(0, 0, 0.51e-3), Vec3(2e-3, 0, 0.2e-3), Vec3(4e-3, 0, 0.2e-3),
+                   Vec3(6e-3, 0, 2e-3)},
+                  {V, V, V, V}, 0, Vec3::Zero(), true);
+  finaliseModel(m);
+  const std::vector<Vec3> v0 = {Vec3(50, 0, -200), Vec3(50, 0, -200), Vec3(0, 30, 200),
+                                Vec3(0, 0, -200)};
+  m.particles.v = v0;
+  m.walls.push_back(RigidWall{});  // z = 0, normal +z
+  enforceRigidWalls(m, dt);
+  const Particles& pa = m.particles;
+  CHECK(pa.x[0].z() + dt * pa.v[0].z() == Approx(half).margin(1e-15));
+  CHECK(pa.v[0].x() == 50.0);  // frictionless
+  CHECK(pa.v[1] == Vec3(50, 0, 0));
+  CHECK(pa.v[2] == v0[2]);
+  CHECK(pa.v[3] == v0[3]);  // 2 mm off: 20 um down in the step, still clear
+}
+
+TEST_CASE("fixed velocity bits hold their own components only", "[unit][fem]") {
+  // Reference: Nodes::fix, bit k holds velocity component k at zero (boundary.cpp); the other
+  // components and the unfixed nodes keep their velocity exactly.
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(1e-3, 1e-3, 1e-3),
+                                     1, 1, 1, Vec3(1, 2, 3));
+  REQUIRE(m.nodes.size() == 8);
+  for (std::size_t a = 0; a < 8; ++a) m.nodes.fix[a] = static_cast<std::uint8_t>(a);
+  applyFixedVelocities(m);
+  for (std::size_t a = 0; a < 8; ++a) {
+    CAPTURE(a);
+    for (int k = 0; k < 3; ++k) CHECK(m.nodes.v[a][k] == ((a >> k) & 1u ? 0.0 : k + 1.0));
   }
 }

@@ -105,6 +105,26 @@ TEST_CASE("the element pass's trigger verdicts are the triggers evaluated afresh
   }
 }
 
+TEST_CASE("verdicts not from the last step's element pass are not read", "[unit][erosion]") {
+  // A run's first step after a restart, or any step whose last pass left no verdicts, must
+  // evaluate the elements' states themselves: an element pushed past the threshold after the
+  // verdicts were taken is found once those verdicts are older than the last step.
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(), Vec3(1e-3, 1e-3, 1e-3),
+                                     2, 2, 2, Vec3(0, 0, -1));
+  m.controls.conversion.mode = ConversionMode::Erosion;
+  for (int k = 0; k < 3; ++k) step(m, 1.0);
+  REQUIRE(m.elems.trigger.size() == m.elems.size());
+  REQUIRE(m.elems.trigger_step == m.step - 1);
+  CHECK(triggeredElements(m).empty());
+  m.elems.state[5].eps_p = 2.0 * m.controls.conversion.plastic_strain;
+  CHECK(triggeredElements(m).empty());  // the last step's verdicts, as documented (model.hpp)
+  m.elems.trigger_step = m.step - 2;
+  const auto found = triggeredElements(m);
+  REQUIRE(found.size() == 1);
+  CHECK(found[0].first == 5);
+  CHECK(found[0].second == Trigger::PlasticStrain);
+}
+
 TEST_CASE("an element's trigger: plastic strain, full damage, and the safety criteria",
           "[unit][erosion][conversion]") {
   // Reference: the criteria as the scene documents them (README, [conversion]): eps_p at the

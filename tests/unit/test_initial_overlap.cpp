@@ -78,3 +78,49 @@ TEST_CASE("particles of a particle body inside another body overlap it", "[unit]
   CHECK(o->points == 1);  // 1.1 is outside, 1.0 on the surface
   CHECK(o->example.z() == Approx(0.9));
 }
+
+TEST_CASE("a point in a non-convex body's notch, a hair off its faces, does not overlap it",
+          "[unit][scene]") {
+  // An L-shaped prism: the 2 x 2 x 1 box [0, 2] x [0, 2] x [0, 1] without its cell [1, 2] x
+  // [1, 2] x [0, 1]. The notch lies inside the body's bounds, so only the point-in-element
+  // test decides; its tolerance (1e-9 of a barycentric coordinate) is round-off, so a point
+  // 1e-5 (a hundred-thousandth of an element) off a face is outside.
+  const TetMesh box = structuredBox(Vec3::Zero(), Vec3(2, 2, 1), 2, 2, 1);
+  TetMesh ell;
+  std::vector<int> renumbered(box.nodes.size(), -1);
+  for (const auto& t : box.tets) {
+    Vec3 centroid = Vec3::Zero();
+    for (int a : t) centroid += 0.25 * box.nodes[a];
+    if (centroid.x() > 1 && centroid.y() > 1) continue;  // the notch
+    std::array<int, 4> kept{};
+    for (int k = 0; k < 4; ++k) {
+      int& id = renumbered[t[k]];
+      if (id < 0) {
+        id = static_cast<int>(ell.nodes.size());
+        ell.nodes.push_back(box.nodes[t[k]]);
+      }
+      kept[k] = id;
+    }
+    ell.tets.push_back(kept);
+  }
+  REQUIRE(ell.tets.size() == 18);
+  REQUIRE(ell.nodes.size() == 16);  // 18 of the box, less the notch's outer edge
+
+  const auto overlapWith = [&](const Vec3& p) {
+    Model m;
+    m.materials.push_back(elasticMaterial());
+    addBody(m, "ell", ell, 0, Placement{}, Vec3::Zero(), false);
+    addParticleBody(m, "speck", {p}, {1e-9}, 0, Vec3::Zero(), true);
+    finaliseModel(m);
+    return findInitialOverlap(m);
+  };
+  CHECK_FALSE(overlapWith({1.5, 1.5, 0.5}));        // the middle of the notch
+  CHECK_FALSE(overlapWith({1.5, 1.0 + 1e-5, 0.3}));  // a hair off the face y = 1
+  CHECK_FALSE(overlapWith({1.0 + 1e-5, 1.5, 0.7}));  // a hair off the face x = 1
+  CHECK_FALSE(overlapWith({1.5, 1.0, 0.3}));        // on the face: touching
+  // and a hair inside those faces, in the body: overlaps
+  const auto in_y = overlapWith({1.5, 1.0 - 1e-5, 0.3});
+  REQUIRE(in_y);
+  CHECK(in_y->points == 1);
+  CHECK(overlapWith({1.0 - 1e-5, 1.5, 0.7}));
+}

@@ -341,6 +341,12 @@ TEST_CASE("failure strain formula and its floor", "[unit][material]") {
   mat.D1 = -2.20, mat.D2 = 5.43, mat.D3 = -0.47, mat.D4 = 0.016, mat.D5 = 0.63;
   CHECK(failureStrain(mat, 2.0, 1.0, 293.0) > 0.0);
   CHECK(failureStrain(mat, 2.0, 1.0, 293.0) <= 1e-6);
+  // A fit with D2 = 0 (a constant failure strain D1) keeps it under any pressure: at sigma* =
+  // -2e3 (a point barely sheared, deep in compression) exp(D3 sigma*) = exp(940) overflows,
+  // and 0 times it must not make the strain a NaN. Exact: D1 (1 + D4 ln 1) (1 + D5 0).
+  mat.D1 = 0.8, mat.D2 = 0.0;
+  REQUIRE(std::isinf(std::exp(mat.D3 * -2e3)));
+  CHECK(failureStrain(mat, -2e3, 1.0, 293.0) == 0.8);
   mat.damage = false;
   CHECK(std::isinf(failureStrain(mat, 0.0, 1.0, 293.0)));
 }
@@ -365,6 +371,17 @@ TEST_CASE("equations of state against hand values", "[unit][material]") {
   // Extreme compression beyond 1/s stays finite and does not fall.
   CHECK(std::isfinite(eosPressure(mat, 7830.0 * 5.0, 0.0)));
   CHECK(eosPressure(mat, 7830.0 * 5.0, 0.0) >= eosPressure(mat, 7830.0 * 2.5, 0.0));
+  // It is clamped where 1 - s eta = 0.1 (eos.cpp): beyond, the Hugoniot point there,
+  // p_H = rho0 c0^2 eta_c / 0.01 with eta_c = 0.9 / s (9.9 TPa), 1e-12.
+  const double eta_c = 0.9 / 1.49;
+  const double pH_c = rc2 * eta_c / 0.01;
+  const double eH_c = pH_c * eta_c / (2.0 * 7830.0);
+  CHECK(eosPressure(mat, 7830.0 * 5.0, eH_c) == Approx(pH_c).epsilon(1e-12));
+  CHECK(pH_c == Approx(9.876e12).epsilon(1e-3));  // hand: 1.6353e11 * 0.60403 / 0.01
+  // and short of the clamp, the Hugoniot itself (eta = 0.6, 1 - s eta = 0.106), 1e-12
+  const double pH_6 = rc2 * 0.6 / std::pow(1.0 - 1.49 * 0.6, 2);
+  CHECK(eosPressure(mat, 7830.0 / 0.4, pH_6 * 0.6 / (2.0 * 7830.0)) ==
+        Approx(pH_6).epsilon(1e-12));
   // Linear: p = K mu, mu = rho/rho0 - 1, exact to round-off (1e-14).
   Material lin = mat;
   lin.eos = EosModel::Linear;
@@ -501,6 +518,24 @@ TEST_CASE("finaliseMaterial derives moduli and rejects impossible values", "[uni
   rejects([](Material& m) { m.D1 = -3.44; }, "damage.D1");
   rejects([](Material& m) { m.c0 = 0; }, "eos.c0");
   rejects([](Material& m) { m.s = -1; }, "eos.s");
+  rejects([](Material& m) { m.gamma0 = -0.1; }, "eos.gamma0");
+  rejects([](Material& m) { m.m = 0; }, "johnson_cook.m");
+  // On the bounds: a melting point at room temperature would divide by zero in T*; a flow
+  // stress of A + B = 0 is no strength model.
+  rejects([](Material& m) { m.T_melt = m.T_room; }, "melt_temperature");
+  rejects([](Material& m) { m.A = 0, m.B = 0; }, "johnson_cook.A");
+  const auto accepts = [&](auto change) {
+    Material m = ok;
+    change(m);
+    CHECK(finaliseMaterial(m).empty());
+  };
+  accepts([](Material& m) { m.T_melt = 0; });  // thermal softening off
+  accepts([](Material& m) { m.A = 0; });         // all hardening
+  accepts([](Material& m) { m.B = 0; });         // perfectly plastic
+  accepts([](Material& m) { m.taylor_quinney = 0; });
+  accepts([](Material& m) { m.taylor_quinney = 1; });
+  accepts([](Material& m) { m.s = 0; });
+  accepts([](Material& m) { m.nu = 0.4999; });
   // The same numbers are fine where the model does not use them.
   Material elastic = ok;
   elastic.strength = StrengthModel::Elastic;

@@ -134,6 +134,103 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   fs::remove_all(dir / "rv.csv.tmp");
 }
 
+TEST_CASE("a continued run keeps the plates measured before it", "[unit][analysis][restart]") {
+  // Reference: PlateCrossings(plates, projectile), the table a checkpoint gives back: plates
+  // already measured keep their v_k, however far past their measuring planes the shot is now;
+  // the first plate not measured is the next to be. The shot of the scene above is moved by
+  // hand, its nose past the first plate's plane (-15 mm) only, then past the second's (-25 mm).
+  const Scene sc = crossingsScene("fesph_crossings_continued");
+  Model m = buildModel(sc);
+  std::vector<PlateCrossing> plates = PlateCrossings(sc, m).plates();
+  REQUIRE(plates.size() == 2);
+  plates[0].t_contact = 4e-6;
+  plates[0].t_measured = 5e-6;
+  plates[0].velocity = Vec3(0, 0, -777);
+  plates[0].speed = 777;
+  PlateCrossings continued(plates, 0);
+  const Body& shot = m.bodies[0];
+  const auto moveShot = [&](double dz) {
+    for (std::size_t a = shot.node_begin; a < shot.node_end; ++a) m.nodes.x[a].z() += dz;
+  };
+  moveShot(-17e-3);  // nose at -16 mm
+  m.time = 20e-6;
+  continued.update(m);
+  CHECK(continued.plates()[0].t_measured == 5e-6);
+  CHECK(continued.plates()[0].speed == 777);
+  CHECK(continued.plates()[1].t_measured < 0);
+  moveShot(-10e-3);  // nose at -26 mm, tail at -20 mm: the whole shot past the rear face
+  m.time = 30e-6;
+  continued.update(m);
+  CHECK(continued.plates()[0].speed == 777);
+  CHECK(continued.plates()[1].t_measured == 30e-6);
+  CHECK(continued.plates()[1].speed == Approx(1000.0).epsilon(1e-12));
+}
+
+TEST_CASE("a node without mass does not touch a plate", "[unit][analysis]") {
+  // Reference: plate_crossings.hpp: t_contact is when the projectile's leading live node
+  // reaches the front face. A node whose elements are all gone (mass 0, left drifting) is no
+  // longer the projectile's: placed past the front face (z = -5 mm) it starts no contact; a
+  // node with mass placed there does.
+  const Scene sc = crossingsScene("fesph_crossings_massless");
+  Model m = buildModel(sc);
+  PlateCrossings crossings(sc, m);
+  const std::size_t orphan = m.bodies[0].node_begin, live = orphan + 1;
+  m.nodes.m[orphan] = 0;
+  m.nodes.x[orphan].z() = -6e-3;
+  m.time = 1e-6;
+  crossings.update(m);
+  CHECK(crossings.plates()[0].t_contact < 0);
+  m.nodes.x[live].z() = -6e-3;
+  m.time = 2e-6;
+  crossings.update(m);
+  CHECK(crossings.plates()[0].t_contact == 2e-6);
+}
+
+TEST_CASE("the first projectile is measured, and behind a lone plate a projectile length on",
+          "[unit][analysis]") {
+  // Reference: plate_crossings.hpp: v_k is the first projectile's (in scene order); the
+  // measuring plane lies a clear gap behind the rear face, and with no second plate to make a
+  // gap, the projectile's length along its flight. One plate 2 mm thick, front at z = -5 mm;
+  // the shot (6 mm long, 1000 m/s) and a decoy projectile beside it (12 mm, 500 m/s): the
+  // plane is 2 + 6 = 8 mm behind the front face, and v_1 the shot's.
+  std::string text = kScene;
+  const std::size_t second = text.find("[[bodies]]\nname = \"second\"");
+  const std::size_t first = text.find("[[bodies]]\nname = \"first\"");
+  REQUIRE(second != std::string::npos);
+  REQUIRE(first != std::string::npos);
+  text.erase(second, first - second);
+  text += R"([[bodies]]
+name = "decoy"
+material = "steel_4340"
+projectile = true
+velocity = [0, 0, -500]
+position = [-60e-3, 0, 1e-3]
+[bodies.shape]
+type = "projectile"
+diameter = 4e-3
+length = 12e-3
+mesh_size = 3e-3
+)";
+  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_lone";
+  fs::create_directories(dir);
+  std::ofstream((dir / "scene.toml").string()) << text;
+  const Scene sc = loadScene((dir / "scene.toml").string(), {},
+                             std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  Model m = buildModel(sc);
+  REQUIRE(m.bodies.size() == 3);
+  REQUIRE(m.bodies[2].is_projectile);
+  PlateCrossings crossings(sc, m);
+  REQUIRE(crossings.plates().size() == 1);
+  CHECK(crossings.plates()[0].measure_depth == Approx(8e-3).epsilon(1e-12));
+  // the shot's nose (1 mm) moved to -13.5 mm, tail at -7.5 mm, past the rear face (-7 mm)
+  for (std::size_t a = m.bodies[0].node_begin; a < m.bodies[0].node_end; ++a)
+    m.nodes.x[a].z() -= 14.5e-3;
+  m.time = 15e-6;
+  crossings.update(m);
+  CHECK(crossings.plates()[0].t_measured == 15e-6);
+  CHECK(crossings.plates()[0].speed == Approx(1000.0).epsilon(1e-12));
+}
+
 TEST_CASE("v_k is the largest piece's, taken when it reaches the measuring plane, and "
           "'through' counts what is past the rear face", "[unit][analysis]") {
   // Reference: the definitions in plate_crossings.hpp. The shot of the scene above is cut in
