@@ -2,6 +2,7 @@
 // Adaptive FE -> SPH conversion (issue 6): one element becomes one particle with its mass,
 // momentum and history; the tie keeps a particle born on a face moving with that face.
 #include "core/conversion/convert.hpp"
+#include "core/conversion/erosion.hpp"
 #include "core/conversion/particle_face_contact.hpp"
 #include "core/conversion/ties.hpp"
 #include "core/solver/step.hpp"
@@ -124,6 +125,7 @@ TEST_CASE("a single conversion conserves mass and momentum and keeps the element
   for (int a : conn) jump += (m.nodes.v[a] - v_mean).squaredNorm();
   jump *= me / 8.0;
 
+  const double kinetic_half0 = m.energy.kinetic_half;
   const double kappa = m.sph.controls.kappa;
   REQUIRE(convertElements(m, kappa) == 1);
   REQUIRE(m.particles.size() == 1);
@@ -138,6 +140,10 @@ TEST_CASE("a single conversion conserves mass and momentum and keeps the element
   CHECK(dm < 1e-14);
   CHECK(dp < 1e-12);
   CHECK(std::abs(m.energy.conversion - jump) <= 1e-12 * jump);
+  // and the half-step kinetic energy the budget carries loses it too (as erosion's does:
+  // test_erosion.cpp), or the next snapshot's mean kinetic energy would count half of it twice
+  CHECK(std::abs((kinetic_half0 - m.energy.kinetic_half) - jump) <=
+        1e-12 * (std::abs(kinetic_half0) + jump));
   CHECK(dke < 1e-9);  // difference of two sums of ~ ke0 >> jump: round-off of ke0 / jump
 
   CHECK(m.particles.m[0] == me);
@@ -165,6 +171,32 @@ TEST_CASE("a single conversion conserves mass and momentum and keeps the element
   // an interior element has live neighbours: its particle is tied to one of their faces
   CHECK(m.particles.tie[0].active());
   CHECK(std::abs(m.particles.tie[0].bary.sum() - 1) < 1e-14);
+}
+
+TEST_CASE("conversions and erosions count the elements full damage and safety took",
+          "[unit][conversion][erosion]") {
+  // Reference: ConversionStats (model.hpp), which the history reports: of the elements
+  // converted or eroded, those triggered by full damage and those by a safety criterion. Three
+  // elements of a box, one by each trigger (plastic strain, damage 1, V/V0 = 0.01 under the
+  // default floor): 3 converted or eroded, 1 by damage, 1 by safety, in either mode.
+  for (const ConversionMode mode : {ConversionMode::Sph, ConversionMode::Erosion}) {
+    Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                       Vec3(3e-3, 3e-3, 3e-3), 3, 3, 3);
+    m.controls.conversion.mode = mode;
+    REQUIRE(m.controls.conversion.min_volume_ratio > 0.01);
+    m.elems.state[0].eps_p = 2.0 * m.controls.conversion.plastic_strain;
+    m.elems.state[40].damage = 1.0;
+    m.elems.V[80] = 0.01 * m.elems.V0[80];
+    if (mode == ConversionMode::Sph) {
+      CHECK(convertElements(m, m.sph.controls.kappa) == 3);
+      CHECK(m.conversion.converted == 3);
+    } else {
+      CHECK(erodeElements(m) == 3);
+      CHECK(m.conversion.eroded == 3);
+    }
+    CHECK(m.conversion.by_damage == 1);
+    CHECK(m.conversion.by_safety == 1);
+  }
 }
 
 TEST_CASE("converting every element leaves no node with mass", "[unit][conversion][conservation]") {
@@ -354,6 +386,36 @@ TEST_CASE("a particle whose centroid projects outside its face is tied within th
   }
 }
 
+TEST_CASE("a particle is not tied to a face crushed flat", "[unit][conversion][ties]") {
+  // Reference: tieToExposedFace (ties.cpp): a face with no plane (its nodes in a line, as in
+  // an element crushed flat) has no barycentric weights to tie with, so it is passed over.
+  // The two tets of the test above with node 2 moved onto the edge 0-1: their shared face is
+  // a segment, the converted element's only exposed face, and its particle stays untied.
+  const double mm = 1e-3;
+  TetMesh mesh;
+  mesh.nodes = {Vec3(0, 0, 0), Vec3(mm, 0, 0), Vec3(0, mm, 0), Vec3(0.3 * mm, 0.3 * mm, mm),
+                Vec3(0.3 * mm, 0.3 * mm, -mm)};
+  mesh.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  addBody(m, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
+  finaliseModel(m);
+  m.controls.conversion.mode = ConversionMode::Sph;
+  m.nodes.x[2] = Vec3(0.5 * mm, 0, 0);  // crushed: the face 0-1-2 is a segment
+  m.elems.state[0].eps_p = 1.0;
+  REQUIRE(convertElements(m, 1.3) == 1);
+  CHECK_FALSE(m.particles.tie[0].active());
+  // not crushed, the same conversion ties the particle to that face
+  Model whole;
+  whole.materials.push_back(fesph::testing::elasticMaterial());
+  addBody(whole, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
+  finaliseModel(whole);
+  whole.controls.conversion.mode = ConversionMode::Sph;
+  whole.elems.state[0].eps_p = 1.0;
+  REQUIRE(convertElements(whole, 1.3) == 1);
+  CHECK(whole.particles.tie[0].active());
+}
+
 TEST_CASE("a particle crossing two faces at an edge is pushed out of the one it enters deepest",
           "[unit][conversion][contact]") {
   // Reference: the contact's contract (docs/design.md, particle-face contact; deepestHit in
@@ -429,6 +491,66 @@ TEST_CASE("a particle that starts behind a face's plane is kept from going deepe
   enforceParticleFaceContact(m, dt, 1);
   CHECK(m.particles.v[0].z() == Approx(-0.5).epsilon(1e-12));
   for (int a : face) CHECK(m.nodes.v[a].z() == Approx(-0.5).epsilon(1e-12));
+}
+
+TEST_CASE("a tied particle takes no particle-face contact", "[unit][conversion][contact]") {
+  // Reference: docs/design.md: a particle tied to a face moves with it through the tie
+  // passes; the contact passes leave it alone (it would otherwise be pushed off the very face
+  // it is tied to). The particle of the test above, tied to the face it approaches at 2 m/s:
+  // no velocity changes, exactly.
+  const double dt = 1e-5, M = 1e-6;
+  std::array<int, 3> face;
+  Model m = particlesOverTopFace(1, 1.0, M, face);
+  m.particles.v[0] = Vec3(0, 0, -2.0);
+  m.particles.tie[0].face = face;
+  m.particles.tie[0].bary = Vec3::Constant(1.0 / 3.0);
+  REQUIRE(m.particles.tie[0].active());
+  enforceParticleFaceContact(m, dt, 2);
+  CHECK(m.particles.v[0] == Vec3(0, 0, -2.0));
+  for (const Vec3& v : m.nodes.v) CHECK(v == Vec3::Zero());
+  // untied, the same particle is pushed
+  m.particles.tie[0] = Tie{};
+  enforceParticleFaceContact(m, dt, 2);
+  CHECK(m.particles.v[0].z() > -2.0);
+}
+
+TEST_CASE("a particle ending just past a face's edge pushes its edge's nodes only",
+          "[unit][conversion][contact]") {
+  // Reference: deepestHit and applyHit (particle_face_contact.cpp): a particle may end up to
+  // 5 % of the face outside its extent and still be caught; its impulse is then shared by the
+  // barycentric weights clamped onto the triangle, so no node is pulled towards the particle.
+  // A particle 0.01 mm outside the top edge x = 3 mm of a resting 3 mm box (one cell), moving
+  // straight down into the top plane: the top triangle along that edge takes it, with a weight
+  // of -0.01/3 on the node opposite the edge before clamping. After: the particle slowed, the
+  // edge's two nodes pushed down, the third untouched, momentum kept (1e-12).
+  const double mm = 1e-3, dt = 1e-6, s = 0.2 * mm;
+  const double radius = kParticleContactRadius * s;
+  Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                     Vec3(3 * mm, 3 * mm, 3 * mm), 1, 1, 1);
+  const Vec3 v0(0, 0, -2 * radius / dt);
+  addParticleBody(m, "particle", {Vec3(3.01 * mm, 1.4 * mm, 3 * mm + radius)}, {s * s * s}, 0,
+                  v0, true);
+  finaliseModel(m);
+  Vec3 p0 = Vec3::Zero();
+  for (std::size_t a = 0; a < m.nodes.size(); ++a) p0 += m.nodes.m[a] * m.nodes.v[a];
+  p0 += m.particles.m[0] * m.particles.v[0];
+  enforceParticleFaceContact(m, dt, 1);
+  CHECK(m.particles.v[0].z() > v0.z());
+  int pushed = 0;
+  Vec3 p1 = m.particles.m[0] * m.particles.v[0];
+  for (std::size_t a = 0; a < m.nodes.size(); ++a) {
+    const Vec3& v = m.nodes.v[a];
+    CAPTURE(a, v.transpose());
+    CHECK(v.z() <= 0.0);  // none pulled up
+    if (v.z() < 0) {
+      ++pushed;
+      CHECK(m.nodes.x[a].x() == 3 * mm);  // on the edge
+      CHECK(m.nodes.x[a].z() == 3 * mm);
+    }
+    p1 += m.nodes.m[a] * v;
+  }
+  CHECK(pushed == 2);
+  CHECK((p1 - p0).norm() <= 1e-12 * p0.norm());
 }
 
 TEST_CASE("the tie passes relax as alpha_k = 1/sqrt(N - k + 1)", "[unit][conversion][ties]") {
