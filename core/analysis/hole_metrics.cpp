@@ -149,20 +149,24 @@ std::vector<Eigen::Vector2d> outlineOf(const Raster& r, const std::vector<int>& 
     } while (at != start && edges.count(at) > 0);
     if (loop.size() > best.size()) best = std::move(loop);
   }
-  std::vector<Eigen::Vector2d> pts;
+  // The midpoints of the boundary's cell edges: the staircase with every step's corner cut by
+  // half a cell, so an even run of steps becomes a straight line and a straight side stays
+  // one. Cutting only at the turns (the midpoints of whole sides) made a square hole a
+  // diamond of half its area. Then only the points where the direction changes.
   const std::size_t n = best.size();
+  std::vector<Corner> mid(n);  // twice the midpoints: whole numbers, exact collinearity
+  for (std::size_t k = 0; k < n; ++k)
+    mid[k] = {best[k].first + best[(k + 1) % n].first, best[k].second + best[(k + 1) % n].second};
+  std::vector<Eigen::Vector2d> pts;
   for (std::size_t k = 0; k < n; ++k) {
-    const Corner& a = best[(k + n - 1) % n];
-    const Corner& b = best[k];
-    const Corner& c = best[(k + 1) % n];
+    const Corner& a = mid[(k + n - 1) % n];
+    const Corner& b = mid[k];
+    const Corner& c = mid[(k + 1) % n];
     const bool straight = (b.first - a.first) * (c.second - b.second) ==
                           (b.second - a.second) * (c.first - b.first);
-    if (!straight) pts.emplace_back(r.a0 + b.first * r.h, r.b0 + b.second * r.h);
+    if (!straight) pts.emplace_back(r.a0 + 0.5 * b.first * r.h, r.b0 + 0.5 * b.second * r.h);
   }
-  // Corner cutting: the midpoints of the edges follow a cell-edge staircase more smoothly.
-  std::vector<Eigen::Vector2d> cut(pts.size());
-  for (std::size_t k = 0; k < pts.size(); ++k) cut[k] = 0.5 * (pts[k] + pts[(k + 1) % pts.size()]);
-  return cut;
+  return pts;
 }
 
 }  // namespace
@@ -217,11 +221,11 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
         const Vec3& p = x[tets[e][k]];
         q[k] = project(copy == 0 ? p : mirrored(p, o));
       }
-      // The projected tet is the union of its projected faces.
+      // The projected tet is the hull of its four projected corners, which the three faces
+      // at any one corner cover (a fan from a corner of the hull, or around it when inside).
       r.fillTriangle(q[0], q[1], q[2]);
       r.fillTriangle(q[0], q[1], q[3]);
       r.fillTriangle(q[0], q[2], q[3]);
-      r.fillTriangle(q[1], q[2], q[3]);
     }
 
   // Label the empty regions (4-connected); label 0 is the outside, reached from the border.

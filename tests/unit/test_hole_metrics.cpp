@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -91,6 +93,108 @@ TEST_CASE("hole metrics: two holes of known size", "[unit][analysis]") {
       CHECK((q - h.holes[k].centroid).norm() == Approx(r).margin(1.0e-3));
   }
   CHECK(h.front - h.rear == Approx(3e-3));
+  // the default cell: a quarter of the 10th-percentile tet edge (1 mm here: the cubes' edges)
+  CHECK(h.cell_size == Approx(0.25e-3).epsilon(1e-12));
+}
+
+TEST_CASE("hole metrics: a plate facing any way gets its frame and its hole", "[unit][analysis]") {
+  // Reference: PlateHoles (hole_metrics.hpp): the normal is the direction of the plate's
+  // smallest extent with its largest component positive, u and v complete a right-handed
+  // frame with v along global y where the plate allows it. The plate of the first test turned
+  // to face +x, +y, +z and 25 degrees off +z about y (the oblique scene's plates): the same
+  // two holes, the same areas (2 %), the frame orthonormal to 1e-12.
+  const HolePlate p = holePlate(-30, -20, 60, 40, 3, {{-15, 0, 8}, {15, 5, 4}});
+  const double tilt = 25.0 * M_PI / 180.0;
+  const std::vector<Mat3> turns = {
+      Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()).toRotationMatrix(),   // z to +x
+      Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitX()).toRotationMatrix(),  // z to +y
+      Mat3::Identity(), Eigen::AngleAxisd(tilt, Vec3::UnitY()).toRotationMatrix()};
+  for (const Mat3& R : turns) {
+    const Vec3 facing = R * Vec3::UnitZ();
+    CAPTURE(facing.transpose());
+    std::vector<Vec3> x = p.mesh.nodes;
+    for (Vec3& q : x) q = R * q;
+    // found from the nodes, and given (exactly: +y then has no in-plane part of global y)
+    HoleOptions given;
+    given.normal = facing.unaryExpr([](double c) { return std::abs(c) < 1e-15 ? 0.0 : c; });
+    for (const PlateHoles& h : {findHoles(x, p.live), findHoles(x, p.live, given)}) {
+      CHECK((h.normal - facing).norm() < 1e-9);
+      CHECK(std::abs(h.u.norm() - 1) < 1e-12);
+      CHECK(std::abs(h.v.norm() - 1) < 1e-12);
+      CHECK(std::abs(h.u.dot(h.v)) < 1e-12);
+      CHECK((h.u.cross(h.v) - h.normal).norm() < 1e-12);
+      REQUIRE(h.holes.size() == 2);
+      for (int k = 0; k < 2; ++k) {
+        CHECK(h.holes[k].area == Approx(p.true_area[k]).epsilon(0.02));
+        CHECK((h.holes[k].centroid - R * p.true_centroid[k]).norm() < 0.1e-3);
+      }
+    }
+  }
+}
+
+TEST_CASE("hole metrics: a notch in any edge of the plate is not a hole", "[unit][analysis]") {
+  // Reference: Hole (hole_metrics.hpp): a hole is an opening the plate closes around; an
+  // opening that reaches the plate's outline is a notch. A 40 x 40 mm plate with a 10 mm
+  // half-disc cut from the middle of each edge in turn, and from a corner.
+  for (const Circle& c : std::vector<Circle>{{-20, 0, 5}, {20, 0, 5}, {0, -20, 5}, {0, 20, 5},
+                                             {-20, -20, 5}}) {
+    CAPTURE(c.x, c.y);
+    const HolePlate p = holePlate(-20, -20, 40, 40, 2, {c});
+    CHECK(findHoles(p.mesh.nodes, p.live).holes.empty());
+  }
+}
+
+TEST_CASE("hole metrics: a piece hanging on by one node is the plate's", "[unit][analysis]") {
+  // Reference: PlateHoles (hole_metrics.hpp): the plate proper is its largest connected
+  // piece, elements joined through any shared node; loose pieces do not widen its extent.
+  // A 40 x 40 mm plate and one tet that shares a single corner node with it, reaching 10 mm
+  // past its edge: the extent grows by 10 mm along x. Cut loose, it does not.
+  const HolePlate p = holePlate(-20, -20, 40, 40, 2, {});
+  std::vector<Vec3> x = p.mesh.nodes;
+  std::vector<std::array<int, 4>> tets = p.live;
+  int corner = -1;  // the node at (20, 20, 0) mm
+  for (std::size_t a = 0; a < x.size(); ++a)
+    if ((x[a] - Vec3(20e-3, 20e-3, 0)).norm() < 1e-9) corner = static_cast<int>(a);
+  REQUIRE(corner >= 0);
+  const int n0 = static_cast<int>(x.size());
+  x.push_back(Vec3(30e-3, 20e-3, 0));
+  x.push_back(Vec3(25e-3, 25e-3, 0));
+  x.push_back(Vec3(25e-3, 20e-3, -2e-3));
+  tets.push_back({n0, n0 + 1, n0 + 2, corner});  // the shared node last
+  HoleOptions o;
+  o.normal = Vec3::UnitZ();  // the frame fixed, not taken from the nodes the tet adds
+  const PlateHoles hanging = findHoles(x, tets, o);
+  CHECK(hanging.u_max - hanging.u_min == Approx(50e-3).epsilon(1e-9));
+  x.push_back(Vec3(20e-3, 20e-3, 0));  // the tet's own node where the corner is
+  tets.back()[3] = n0 + 3;
+  const PlateHoles loose = findHoles(x, tets, o);
+  CHECK(loose.u_max - loose.u_min == Approx(40e-3).epsilon(1e-9));
+}
+
+TEST_CASE("hole metrics: a square hole's outline is the square, its corners cut by half a cell",
+          "[unit][analysis]") {
+  // Reference: Hole::outline (hole_metrics.hpp): it follows the raster cells with the
+  // staircase corners cut. A 2 x 2 mm square hole (four cube columns) at 0.25 mm cells: its
+  // sides are straight runs of cells, so the outline is the square with each corner cut by
+  // half a cell: every point within half a cell of the square's sides, the area it encloses
+  // that of the square less four corners of an eighth of a cell each (1e-9).
+  const HolePlate p = holePlate(-20, -20, 40, 40, 2, {{0, 0, 1}});
+  REQUIRE(p.true_area[0] == Approx(4e-6).epsilon(1e-12));
+  const PlateHoles h = findHoles(p.mesh.nodes, p.live);
+  REQUIRE(h.holes.size() == 1);
+  const double cell = h.cell_size;
+  REQUIRE(cell == Approx(0.25e-3).epsilon(1e-12));
+  const std::vector<Vec3>& outline = h.holes[0].outline;
+  CHECK(outline.size() == 8);
+  double area2 = 0;  // shoelace, in the plate's frame
+  for (std::size_t k = 0; k < outline.size(); ++k) {
+    const Vec3& a = outline[k];
+    const Vec3& b = outline[(k + 1) % outline.size()];
+    area2 += a.x() * b.y() - a.y() * b.x();
+    const double off_side = std::min(std::abs(std::abs(a.x()) - 1e-3), std::abs(std::abs(a.y()) - 1e-3));
+    CHECK(off_side <= 0.5 * cell + 1e-12);
+  }
+  CHECK(0.5 * std::abs(area2) == Approx(4e-6 - 4 * 0.125 * cell * cell).epsilon(1e-9));
 }
 
 TEST_CASE("hole metrics: a raster cell unrelated to the mesh stays within 2%", "[unit][analysis]") {
@@ -123,6 +227,23 @@ TEST_CASE("hole metrics: half model, hole on the symmetry edge", "[unit][analysi
     CHECK(h.u_max - h.u_min == Approx(60e-3).epsilon(1e-9));
     CHECK(h.v_max - h.v_min == Approx(40e-3).epsilon(1e-9));
   }
+}
+
+TEST_CASE("hole metrics: a half model mirrored on a plane off the origin", "[unit][analysis]") {
+  // Reference: HoleOptions::symmetry_position: the image of a point is taken on that plane.
+  // The half model of the test above moved to y in [5, 25] mm, its plane y = 5 mm: the same
+  // full-plate hole (2 %), centred on the plane (0.1 mm), and the full plate's extent.
+  const HolePlate p = holePlate(-30, 5, 60, 20, 3, {{0, 5, 6}}, true);
+  HoleOptions o;
+  o.mirror = true;
+  o.symmetry_axis = 1;
+  o.symmetry_position = 5e-3;
+  const PlateHoles h = findHoles(p.mesh.nodes, p.live, o);
+  REQUIRE(h.holes.size() == 1);
+  CHECK(h.holes[0].area == Approx(p.true_area[0]).epsilon(0.02));
+  CHECK(h.holes[0].on_symmetry);
+  CHECK((h.holes[0].centroid - Vec3(0, 5e-3, -1.5e-3)).norm() < 0.1e-3);
+  CHECK(h.v_max - h.v_min == Approx(40e-3).epsilon(1e-9));
 }
 
 TEST_CASE("hole metrics: a mirrored hole off the plane is not on the symmetry plane",
