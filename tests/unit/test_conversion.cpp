@@ -79,6 +79,23 @@ Model particlesOverTopFace(int n, double height, double M, std::array<int, 3>& f
   return m;
 }
 
+/// Two tets on the face abc (a at the origin, b and c 1 mm along x and y): the first above it
+/// with its apex at `apex` (mm), the second below. SPH conversion, the first element triggered.
+Model tetsOnAbc(const Vec3& apex) {
+  const double mm = 1e-3;
+  TetMesh mesh;
+  mesh.nodes = {Vec3(0, 0, 0), Vec3(mm, 0, 0), Vec3(0, mm, 0), mm * apex,
+                Vec3(0.3 * mm, 0.3 * mm, -mm)};
+  mesh.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  addBody(m, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
+  finaliseModel(m);
+  m.controls.conversion.mode = ConversionMode::Sph;
+  m.elems.state[0].eps_p = 1.0;
+  return m;
+}
+
 }  // namespace
 
 TEST_CASE("a single conversion conserves mass and momentum and keeps the element's state",
@@ -366,17 +383,7 @@ TEST_CASE("a particle whose centroid projects outside its face is tied within th
   // projects onto abc at barycentric weights (-1, 1, 1). The tie's weights are the nearest
   // point of the triangle, (0, 1/2, 1/2): weights outside [0, 1] would extrapolate the face's
   // velocity (docs/design.md, ties).
-  const double mm = 1e-3;
-  TetMesh mesh;
-  mesh.nodes = {Vec3(0, 0, 0), Vec3(mm, 0, 0), Vec3(0, mm, 0), Vec3(3 * mm, 3 * mm, mm),
-                Vec3(0.3 * mm, 0.3 * mm, -mm)};
-  mesh.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
-  Model m;
-  m.materials.push_back(fesph::testing::elasticMaterial());
-  addBody(m, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
-  finaliseModel(m);
-  m.controls.conversion.mode = ConversionMode::Sph;
-  m.elems.state[0].eps_p = 1.0;
+  Model m = tetsOnAbc(Vec3(3, 3, 1));
   REQUIRE(convertElements(m, 1.3) == 1);
   const Tie& t = m.particles.tie[0];
   REQUIRE(t.active());
@@ -389,29 +396,14 @@ TEST_CASE("a particle whose centroid projects outside its face is tied within th
 TEST_CASE("a particle is not tied to a face crushed flat", "[unit][conversion][ties]") {
   // Reference: tieToExposedFace (ties.cpp): a face with no plane (its nodes in a line, as in
   // an element crushed flat) has no barycentric weights to tie with, so it is passed over.
-  // The two tets of the test above with node 2 moved onto the edge 0-1: their shared face is
-  // a segment, the converted element's only exposed face, and its particle stays untied.
-  const double mm = 1e-3;
-  TetMesh mesh;
-  mesh.nodes = {Vec3(0, 0, 0), Vec3(mm, 0, 0), Vec3(0, mm, 0), Vec3(0.3 * mm, 0.3 * mm, mm),
-                Vec3(0.3 * mm, 0.3 * mm, -mm)};
-  mesh.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
-  Model m;
-  m.materials.push_back(fesph::testing::elasticMaterial());
-  addBody(m, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
-  finaliseModel(m);
-  m.controls.conversion.mode = ConversionMode::Sph;
-  m.nodes.x[2] = Vec3(0.5 * mm, 0, 0);  // crushed: the face 0-1-2 is a segment
-  m.elems.state[0].eps_p = 1.0;
+  // Two tets on the face abc, with node c moved onto the edge ab: their shared face is a
+  // segment, the converted element's only exposed face, and its particle stays untied.
+  Model m = tetsOnAbc(Vec3(0.3, 0.3, 1));
+  m.nodes.x[2] = Vec3(0.5e-3, 0, 0);  // crushed: the face abc is a segment
   REQUIRE(convertElements(m, 1.3) == 1);
   CHECK_FALSE(m.particles.tie[0].active());
   // not crushed, the same conversion ties the particle to that face
-  Model whole;
-  whole.materials.push_back(fesph::testing::elasticMaterial());
-  addBody(whole, "pair", mesh, 0, Placement{}, Vec3::Zero(), true);
-  finaliseModel(whole);
-  whole.controls.conversion.mode = ConversionMode::Sph;
-  whole.elems.state[0].eps_p = 1.0;
+  Model whole = tetsOnAbc(Vec3(0.3, 0.3, 1));
   REQUIRE(convertElements(whole, 1.3) == 1);
   CHECK(whole.particles.tie[0].active());
 }
