@@ -58,12 +58,13 @@ mesh_size = 5e-3
 coarse_size = 5e-3
 )";
 
-/// The scene above, written to a folder of that name under the temporary directory and read.
-Scene crossingsScene(const char* folder) {
+/// The scene above (or `text`), written to a folder of that name under the temporary
+/// directory and read.
+Scene crossingsScene(const char* folder, const std::string& text = kScene) {
   const fs::path dir = fs::temp_directory_path() / folder;
   fs::create_directories(dir);
   const std::string path = (dir / "scene.toml").string();
-  std::ofstream(path) << kScene;
+  std::ofstream(path) << text;
   return loadScene(path, {}, std::string(FESPH_SCENES_DIR) + "/materials.toml");
 }
 
@@ -211,11 +212,7 @@ diameter = 4e-3
 length = 12e-3
 mesh_size = 3e-3
 )";
-  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_lone";
-  fs::create_directories(dir);
-  std::ofstream((dir / "scene.toml").string()) << text;
-  const Scene sc = loadScene((dir / "scene.toml").string(), {},
-                             std::string(FESPH_SCENES_DIR) + "/materials.toml");
+  const Scene sc = crossingsScene("fesph_crossings_lone", text);
   Model m = buildModel(sc);
   REQUIRE(m.bodies.size() == 3);
   REQUIRE(m.bodies[2].is_projectile);
