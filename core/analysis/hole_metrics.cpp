@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 #include <utility>
 
 namespace fesph {
@@ -119,8 +120,12 @@ struct Raster {
   }
 };
 
-// Outline of one region: its boundary edges chained into loops (region on the left), the
-// longest loop kept, collinear points dropped and staircase corners cut.
+// Outline of one region: its outer boundary, the cell edges with the region on their left
+// chained into one loop from the lowest corner (which lies on the outer boundary), staircase
+// corners cut. Where two of the region's cells meet only at a corner, the chain keeps to the
+// cell it came along (a left turn): the region is 4-connected, so those cells are not joined
+// there, and the loop stays one simple loop whatever the order the edges were found in.
+// Loops round islands (plate cells the region surrounds) are not the outline.
 std::vector<Eigen::Vector2d> outlineOf(const Raster& r, const std::vector<int>& label, int id,
                                        const std::vector<std::size_t>& cells) {
   using Corner = std::pair<int, int>;
@@ -135,28 +140,31 @@ std::vector<Eigen::Vector2d> outlineOf(const Raster& r, const std::vector<int>& 
     if (other(i, j + 1)) edges.emplace(Corner{i + 1, j + 1}, Corner{i, j + 1});
     if (other(i - 1, j)) edges.emplace(Corner{i, j + 1}, Corner{i, j});
   }
-  std::vector<Corner> best;
-  while (!edges.empty()) {
-    std::vector<Corner> loop;
-    auto it = edges.begin();
-    const Corner start = it->first;
-    Corner at = start;
-    do {
-      loop.push_back(at);
-      it = edges.find(at);
-      at = it->second;
-      edges.erase(it);
-    } while (at != start && edges.count(at) > 0);
-    if (loop.size() > best.size()) best = std::move(loop);
-  }
+  std::vector<Corner> loop;
+  const Corner start = edges.begin()->first;
+  Corner from = start, at = start;
+  do {
+    loop.push_back(at);
+    auto [first, last] = edges.equal_range(at);
+    if (first == last) throw std::logic_error("hole outline: a boundary edge chain is open");
+    auto next = first;
+    for (auto it = first; it != last; ++it) {  // two ways on only where cells meet at a corner
+      const Corner step{it->second.first - at.first, it->second.second - at.second};
+      const Corner came{at.first - from.first, at.second - from.second};
+      if (step == Corner{-came.second, came.first}) next = it;  // the left turn
+    }
+    from = at;
+    at = next->second;
+    edges.erase(next);
+  } while (at != start);
   // The midpoints of the boundary's cell edges: the staircase with every step's corner cut by
   // half a cell, so an even run of steps becomes a straight line and a straight side stays
   // one. Cutting only at the turns (the midpoints of whole sides) made a square hole a
   // diamond of half its area. Then only the points where the direction changes.
-  const std::size_t n = best.size();
+  const std::size_t n = loop.size();
   std::vector<Corner> mid(n);  // twice the midpoints: whole numbers, exact collinearity
   for (std::size_t k = 0; k < n; ++k)
-    mid[k] = {best[k].first + best[(k + 1) % n].first, best[k].second + best[(k + 1) % n].second};
+    mid[k] = {loop[k].first + loop[(k + 1) % n].first, loop[k].second + loop[(k + 1) % n].second};
   std::vector<Eigen::Vector2d> pts;
   for (std::size_t k = 0; k < n; ++k) {
     const Corner& a = mid[(k + n - 1) % n];

@@ -32,8 +32,8 @@ struct Hole {
   double area = 0;             ///< full plate, m^2
   double diameter = 0;         ///< equivalent diameter sqrt(4 area / pi), m
   Vec3 centroid = Vec3::Zero();  ///< on the mid-plane, m
-  /// Closed outline on the mid-plane (last point joins the first), m. Follows the raster cells,
-  /// with the staircase corners cut.
+  /// Closed outline on the mid-plane (last point joins the first), m: the hole's outer edge
+  /// (islands inside it), following the raster cells with the staircase corners cut.
   std::vector<Vec3> outline;
   bool on_symmetry = false;    ///< crosses the symmetry plane (mirrored half models)
 };

@@ -73,6 +73,30 @@ HolePlate holePlate(double x0, double y0, int nx, int ny, int nz, const std::vec
   return p;
 }
 
+/// The area a closed outline encloses (shoelace in x, y; the plates here face +z).
+double enclosedArea(const std::vector<Vec3>& outline) {
+  double area2 = 0;
+  for (std::size_t k = 0; k < outline.size(); ++k) {
+    const Vec3& a = outline[k];
+    const Vec3& b = outline[(k + 1) % outline.size()];
+    area2 += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * std::abs(area2);
+}
+
+/// The tets of a 40 x 40 x 2 mm plate of 1 mm cubes whose cube column `keep` takes (column
+/// centre in mm).
+std::vector<std::array<int, 4>> columnsKept(const TetMesh& mesh,
+                                            bool (*keep)(double cx, double cy)) {
+  std::vector<std::array<int, 4>> live;
+  for (const auto& t : mesh.tets) {
+    const Vec3 c = 0.25e3 * (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]] +
+                             mesh.nodes[t[3]]);
+    if (keep(std::floor(c.x()) + 0.5, std::floor(c.y()) + 0.5)) live.push_back(t);
+  }
+  return live;
+}
+
 }  // namespace
 
 TEST_CASE("hole metrics: two holes of known size", "[unit][analysis]") {
@@ -91,6 +115,10 @@ TEST_CASE("hole metrics: two holes of known size", "[unit][analysis]") {
     REQUIRE(h.holes[k].outline.size() > 8);
     for (const Vec3& q : h.holes[k].outline)
       CHECK((q - h.holes[k].centroid).norm() == Approx(r).margin(1.0e-3));
+    // a loop of cell edges with its corners cut by half a cell: the cells' area less half a
+    // cell (see "a hole wrapped round a piece held at its corners"), to 1e-9
+    CHECK(enclosedArea(h.holes[k].outline) ==
+          Approx(h.holes[k].area - 0.5 * h.cell_size * h.cell_size).epsilon(1e-9));
   }
   CHECK(h.front - h.rear == Approx(3e-3));
   // the default cell: a quarter of the 10th-percentile tet edge (1 mm here: the cubes' edges)
@@ -186,15 +214,79 @@ TEST_CASE("hole metrics: a square hole's outline is the square, its corners cut 
   REQUIRE(cell == Approx(0.25e-3).epsilon(1e-12));
   const std::vector<Vec3>& outline = h.holes[0].outline;
   CHECK(outline.size() == 8);
-  double area2 = 0;  // shoelace, in the plate's frame
-  for (std::size_t k = 0; k < outline.size(); ++k) {
-    const Vec3& a = outline[k];
-    const Vec3& b = outline[(k + 1) % outline.size()];
-    area2 += a.x() * b.y() - a.y() * b.x();
+  for (const Vec3& a : outline) {
     const double off_side = std::min(std::abs(std::abs(a.x()) - 1e-3), std::abs(std::abs(a.y()) - 1e-3));
     CHECK(off_side <= 0.5 * cell + 1e-12);
   }
-  CHECK(0.5 * std::abs(area2) == Approx(4e-6 - 4 * 0.125 * cell * cell).epsilon(1e-9));
+  CHECK(enclosedArea(outline) == Approx(4e-6 - 4 * 0.125 * cell * cell).epsilon(1e-9));
+}
+
+TEST_CASE("hole metrics: a hole round an island is outlined by its own edge, not the island's",
+          "[unit][analysis]") {
+  // Reference: Hole::outline (hole_metrics.hpp): the hole's outer edge, cell corners cut by
+  // half a cell. An 8 x 8 mm square hole holding a comb-shaped island of 21 cube columns (its
+  // edge, 44 mm, longer than the hole's 32 mm), joined to the plate by one sliver tet too thin
+  // (0.02 mm) to cover any cell centre: one piece in 3D, an island on the raster. The hole is
+  // the square less the island (43 mm^2, exact on cells aligned with the cubes); its outline
+  // is the square with its four corners cut (64 mm^2 less four eighths of a cell, 1e-9). Up
+  // to the thirty-fourth session the longest loop was taken, here the island's.
+  const HolePlate p = holePlate(-20, -20, 40, 40, 2, {});
+  const auto keep = [](double cx, double cy) {
+    const bool in_hole = std::abs(cx) < 4 && std::abs(cy) < 4;
+    const bool spine = cx == -2.5 && std::abs(cy) < 3;
+    const bool tooth = cx > -2 && cx < 3 && (cy == -2.5 || cy == -0.5 || cy == 1.5);
+    return !in_hole || spine || tooth;
+  };
+  std::vector<std::array<int, 4>> tets = columnsKept(p.mesh, keep);
+  std::vector<Vec3> x = p.mesh.nodes;
+  const auto node = [&](const Vec3& at) {
+    for (std::size_t a = 0; a < x.size(); ++a)
+      if ((x[a] - at).norm() < 1e-9) return static_cast<int>(a);
+    FAIL("no node at " << at.transpose());
+    return -1;
+  };
+  const int island = node(Vec3(-3e-3, 0, 0)), rim = node(Vec3(-4e-3, 0, 0));
+  const int n0 = static_cast<int>(x.size());
+  x.push_back(Vec3(-3.5e-3, 0.01e-3, -0.5e-3));
+  x.push_back(Vec3(-3.5e-3, -0.01e-3, -1e-3));
+  tets.push_back({island, rim, n0, n0 + 1});
+  HoleOptions o;
+  o.normal = Vec3::UnitZ();
+  o.cell_size = 0.25e-3;
+  const PlateHoles h = findHoles(x, tets, o);
+  REQUIRE(h.holes.size() == 1);
+  CHECK(h.holes[0].area == Approx(43e-6).epsilon(1e-12));
+  const double cell = h.cell_size;
+  CHECK(h.holes[0].outline.size() == 8);
+  CHECK(enclosedArea(h.holes[0].outline) == Approx(64e-6 - 0.5 * cell * cell).epsilon(1e-9));
+}
+
+TEST_CASE("hole metrics: a hole wrapped round a piece held at its corners has one outline round "
+          "it all",
+          "[unit][analysis]") {
+  // Reference: Hole::outline (hole_metrics.hpp); holes are 4-connected. An 8 x 8 mm square
+  // hole round a 2 x 2 mm block held to the plate by a chain of two cube columns, each
+  // meeting the next only at a cube edge: the hole (58 cube columns) runs round the block and
+  // touches itself at those two corners. Its outline is one loop round the hole alone: on any
+  // loop of cell edges without an island, each corner cut adds or takes an eighth of a cell
+  // and the turns sum to four, so it encloses the hole's area less half a cell (1e-9). A
+  // chain that crossed over at a corner where the hole touches itself would leave the block
+  // in (64 mm^2) or its edge out.
+  const HolePlate p = holePlate(-20, -20, 40, 40, 2, {});
+  const auto keep = [](double cx, double cy) {
+    const bool in_hole = std::abs(cx) < 4 && std::abs(cy) < 4;
+    const bool block = cx > -2 && cx < 0 && cy > -2 && cy < 0;
+    const bool chain = (cx == -2.5 && cy == -2.5) || (cx == -3.5 && cy == -3.5);
+    return !in_hole || block || chain;
+  };
+  HoleOptions o;
+  o.normal = Vec3::UnitZ();
+  o.cell_size = 0.25e-3;
+  const PlateHoles h = findHoles(p.mesh.nodes, columnsKept(p.mesh, keep), o);
+  REQUIRE(h.holes.size() == 1);
+  CHECK(h.holes[0].area == Approx(58e-6).epsilon(1e-12));
+  const double cell = h.cell_size;
+  CHECK(enclosedArea(h.holes[0].outline) == Approx(58e-6 - 0.5 * cell * cell).epsilon(1e-9));
 }
 
 TEST_CASE("hole metrics: a raster cell unrelated to the mesh stays within 2%", "[unit][analysis]") {
