@@ -2,6 +2,7 @@
 #include "core/conversion/particle_face_contact.hpp"
 
 #include "core/conversion/face_geometry.hpp"
+#include "core/common/heap_bytes.hpp"
 #include "core/common/omp_threads.hpp"
 #include "core/common/thread_buffer.hpp"
 #include "core/common/union_find.hpp"
@@ -305,6 +306,13 @@ struct Scratch {
   std::vector<Hit> hits;
 };
 
+// The calling thread's Scratch: the thread that steps the model (the parallel regions run
+// inside the calls), so one per run, reused by every call.
+Scratch& threadScratch() {
+  thread_local Scratch scratch;
+  return scratch;
+}
+
 // The face slots that hold each node (compressed rows over the nodes): the slots a push on a
 // node makes stale, and the slots the sweep groups join.
 struct NodeSlots {
@@ -414,7 +422,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
   // corrections are far smaller than a cell), so its viable faces are found once, by blocks
   // of particles joined in particle order.
   std::vector<std::size_t> offset(pa.size() + 1, 0);
-  thread_local Scratch scratch;
+  Scratch& scratch = threadScratch();
   std::vector<Viable>& viable = scratch.viable;
   const long nb = blockCount(np);  // tied particles take no time: blocks, not halves
   auto& parts = scratch.parts;
@@ -559,6 +567,11 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
     pushes = pushes_before + pushed;  // above every stamp of this pass
     if (pushed == 0) break;
   }
+}
+
+std::size_t particleFaceContactScratchBytes() {
+  const Scratch& s = threadScratch();
+  return heapBytes(s.parts, s.viable, s.ends, s.hits);
 }
 
 }  // namespace fesph

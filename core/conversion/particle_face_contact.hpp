@@ -19,4 +19,8 @@ inline constexpr double kParticleContactRadius = 0.35;
 /// that starts the step inside its contact radius is only kept from coming closer.
 void enforceParticleFaceContact(Model& model, double dt, int passes);
 
+/// Bytes held by the buffers enforceParticleFaceContact keeps from call to call on the calling
+/// thread (the one stepping the model), for the memory figures of merit.
+std::size_t particleFaceContactScratchBytes();
+
 }  // namespace fesph

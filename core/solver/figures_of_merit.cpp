@@ -2,6 +2,7 @@
 #include "core/solver/figures_of_merit.hpp"
 
 #include "core/common/heap_bytes.hpp"
+#include "core/conversion/particle_face_contact.hpp"
 
 #include <sys/resource.h>
 
@@ -35,9 +36,9 @@ Footprint modelFootprint(const Model& m) {
   const ContactCandidates& c = s.candidates;
   const ContactScratch& w = s.scratch;
   f.contact = bytes(s.exterior, s.slave_nodes, c.slaves, c.body_begin, c.offset, c.faces) +
-              bytes(w.face_lo, w.face_hi, w.face_tol, w.slave_lo, w.slave_hi, w.bucket_offset) +
-              bytes(w.bucket_fill, w.bucket_faces, w.thread_faces, w.slave_thread, w.slave_start) +
-              bytes(w.contact_face);
+              bytes(c.active, w.face_lo, w.face_hi, w.face_tol, w.slave_lo, w.slave_hi) +
+              bytes(w.queried, w.bucket_offset, w.bucket_fill, w.bucket_faces, w.thread_cells) +
+              bytes(w.thread_faces, w.slave_thread, w.slave_start, w.contact_face);
   const Particles& pa = m.particles;
   const SphWorkspace& ws = m.sph;
   f.particles = bytes(pa.x, pa.v, pa.f, pa.m, pa.V, pa.rho, pa.h, pa.d0, pa.dt, pa.state) +
@@ -47,8 +48,12 @@ Footprint modelFootprint(const Model& m) {
                 bytes(ws.pair_stab, ws.pair_stab_last, ws.pair_last_slot) +
                 snapshotBytes(ws.current) + snapshotBytes(ws.previous) +
                 bytes(ws.corrected, ws.velocity_grad, ws.velocity_grad_prev, ws.stress_b) +
-                bytes(ws.plastic_work, ws.av_work, ws.contact_radius, ws.contact_spacing) +
-                bytes(ws.contact_pairs, ws.yield_cache) + ws.search.bytes();
+                bytes(ws.plastic_work, ws.av_work, ws.internal_energy, ws.contact_radius) +
+                bytes(ws.contact_spacing, ws.contact_pairs, ws.yield_cache, ws.mirrors) +
+                ws.search.bytes() + particleFaceContactScratchBytes();
+  for (const MirrorImage& mi : ws.mirrors)
+    f.particles += bytes(mi.neighbours.offset, mi.neighbours.index, mi.grad, mi.grad_prev) +
+                   bytes(mi.contact.offset, mi.contact.index);
   return f;
 }
 

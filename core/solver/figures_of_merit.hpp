@@ -15,7 +15,9 @@ struct Footprint {
   std::size_t elements = 0;   ///< element arrays, corner forces, node->corner lists, face table
   std::size_t nodes = 0;      ///< node arrays and nodal scratch
   std::size_t contact = 0;    ///< exterior faces, slave lists, candidates, search scratch
-  std::size_t particles = 0;  ///< particle arrays and the SPH workspace (neighbour lists)
+  /// particle arrays, the SPH workspace (neighbour lists) and the particle-face contact's
+  /// buffers
+  std::size_t particles = 0;
   std::size_t total() const { return elements + nodes + contact + particles; }
 };
 Footprint modelFootprint(const Model& model);

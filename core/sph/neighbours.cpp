@@ -712,7 +712,6 @@ std::size_t NeighbourSearch::bytes() const {
                   heapBytes(mirror_ids_, mirror_work_, ids_, block_rows_, count_) +
                   heapBytes(rows_.offset, rows_.index);
   for (const CellGrid& g : grids_) b += g.bytes();
-  for (const auto& t : block_rows_) b += heapBytes(t.items);
   for (const MirrorVerlet& m : mirror_verlet_) b += m.bytes();
   return b;
 }
