@@ -81,6 +81,8 @@ TEST_CASE("figures of merit: the model's footprint is the heap its arrays hold",
     if (half) REQUIRE(m.sph.mirrors.size() == 1);
     CHECK(f.total() <= held);
     CHECK(static_cast<double>(f.total()) >= 0.95 * static_cast<double>(held));
+    // the arrays have been written, so they have been resident: the peak holds them (bytes)
+    CHECK(peakResidentBytes() > f.total());
   }
 }
 
