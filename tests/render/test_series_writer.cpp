@@ -19,6 +19,10 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <fstream>
+#include <string>
+#include <vector>
+
 #include <unistd.h>
 
 using namespace fesph;
@@ -191,6 +195,14 @@ TEST_CASE("SeriesWriter writes live tets with exact values and a .pvd", "[unit][
     }
     CHECK(cd->GetArray("body")->GetDataType() == VTK_INT);
     CHECK(cd->GetArray("element_id")->GetDataType() == VTK_TYPE_INT64);
+    // VTK and ParaView read a 6-component array as a symmetric tensor in the order XX YY ZZ
+    // XY YZ XZ (vtkMath::TensorFromSymmetricTensor); the names must say the same
+    const std::vector<std::string> tensor = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+    for (int k = 0; k < 6; ++k) {
+      const char* component = cd->GetArray("stress")->GetComponentName(k);
+      REQUIRE(component != nullptr);
+      CHECK(std::string(component) == tensor[static_cast<std::size_t>(k)]);
+    }
 
     vtkPointData* pd = g->GetPointData();
     REQUIRE(pd->GetArray("velocity") != nullptr);
@@ -392,7 +404,10 @@ TEST_CASE("PvdCollection reads back what it wrote", "[unit][output]") {
   {
     PvdCollection pvd(dir.path / "x.pvd", false);
     for (int i = 0; i < 3; ++i) pvd.add(times[i], "x_" + std::to_string(i) + ".vtu");
-    CHECK_THROWS_AS(pvd.add(4.0, "../escape.vtu"), std::invalid_argument);
+    // a name that leaves the folder, or is the folder: a fresh series deletes the files its
+    // .pvd lists, so such an entry would take a folder with it
+    for (const char* bad : {"../escape.vtu", "..", ".", "", "a/b.vtu", "a&b.vtu"})
+      CHECK_THROWS_AS(pvd.add(4.0, bad), std::invalid_argument);
     CHECK(pvd.entries().size() == 3);
   }
   PvdCollection back(dir.path / "x.pvd", true);
@@ -401,4 +416,28 @@ TEST_CASE("PvdCollection reads back what it wrote", "[unit][output]") {
     CHECK(back.entries()[i].time == times[i]);  // shortest round-trip form is exact
     CHECK(back.entries()[i].file == "x_" + std::to_string(i) + ".vtu");
   }
+}
+
+TEST_CASE("PvdCollection reads a .pvd written elsewhere, attributes by their whole names",
+          "[unit][output]") {
+  // Reference: the .pvd format (paraview.md): <DataSet timestep=".." part=".." file=".."/>,
+  // attributes in any order, other attributes allowed. One whose name ends in "file" or
+  // "timestep" (a tool's own "group", "xfile") must not be taken for them.
+  TempFolder dir("pvd_foreign");
+  fs::create_directories(dir.path);
+  {
+    std::ofstream out(dir.path / "y.pvd");
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+           "  <Collection>\n"
+           "    <DataSet xtimestep=\"9\" sourcefile=\"wrong.vtu\" file=\"y_0.vtu\" "
+           "timestep=\"2.5e-06\"/>\n"
+           "    <DataSet part=\"0\" timestep=\"5e-06\" group=\"\" file=\"y_1.vtu\"/>\n"
+           "  </Collection>\n</VTKFile>\n";
+  }
+  PvdCollection back(dir.path / "y.pvd", true);
+  REQUIRE(back.entries().size() == 2);
+  CHECK(back.entries()[0].time == 2.5e-6);
+  CHECK(back.entries()[0].file == "y_0.vtu");
+  CHECK(back.entries()[1].time == 5e-6);
+  CHECK(back.entries()[1].file == "y_1.vtu");
 }
