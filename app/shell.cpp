@@ -295,6 +295,8 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "", &Workbench::meshInfo},
       {"run", "run [for T | to T]", "run to the end time, for a duration or to a time",
        "T in s, or with a unit: 5e-6, 5us, 0.01ms. Output is written at the scene's interval.\n"
+       "The run stops at the first step that reaches T: steps are not shortened to land on it,\n"
+       "so a run paused and continued takes the same steps as one run straight through.\n"
        "Ctrl-C pauses the run after the current step and returns to the prompt; `run` or `step`\n"
        "continues from there.",
        &Workbench::run},

@@ -278,6 +278,27 @@ TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[ap
   CHECK(r.out.find("none.h5") != std::string::npos);
 }
 
+TEST_CASE("fesph shell: a run paused at times of the user's is the run straight through",
+          "[app][shell]") {
+  // Reference: `help run`: the steps are not shortened to land on a pause's time, so pausing
+  // (run to, run for, step) changes no step. The series written at the scene's interval and
+  // the history, byte for byte, against one `run` to the end.
+  TempFolder dir("shell_pauses");
+  const fs::path paused = dir.path / "paused", straight = dir.path / "straight";
+  const Result a = shell(kScene + " --out " + paused.string(),
+                         "run to 1.1us\nstep 3\nrun for 0.77us\nrun to 2.5e-6\nrun\n", dir.path);
+  const Result b = shell(kScene + " --out " + straight.string(), "run\n", dir.path);
+  INFO(a.out << "\n----\n" << b.out);
+  REQUIRE(a.code == 0);
+  REQUIRE(b.code == 0);
+  for (const char* file : {"elements_000002.vtu", "elements_000004.vtu", "particles_000004.vtp",
+                           "history.csv", "residual_velocities.csv"}) {
+    INFO(file);
+    REQUIRE(fs::exists(straight / file));
+    CHECK(slurp(paused / file) == slurp(straight / file));
+  }
+}
+
 TEST_CASE("fesph shell: going back past a later checkpoint is refused, --out goes on elsewhere",
           "[app][shell]") {
   TempFolder dir("shell_restart_older");
