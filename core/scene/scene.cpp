@@ -73,7 +73,15 @@ void applyOverride(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError(src, 0, 0, "expected key=value, e.g. simulation.end_time=2e-5");
-  const toml::table value_doc = parseText("v = " + assignment.substr(eq + 1), src);
+  const std::string value = assignment.substr(eq + 1);
+  toml::table value_doc;
+  try {
+    value_doc = parseText("v = " + value, src);
+  } catch (const InputError&) {  // its column would count the "v = " put in front
+    throw InputError(src, 0, 0,
+                     "'" + value + "' is not a TOML value: expected a number (5e-6), true or "
+                     "false, a string in quotes (\"text\"), or an array ([0, 0, -800])");
+  }
   setAt(root, assignment.substr(0, eq), *value_doc.get("v"), src, 0, 0);
 }
 

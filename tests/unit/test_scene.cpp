@@ -231,6 +231,19 @@ TEST_CASE("scene overrides from the command line are checked like the file", "[u
   REQUIRE(sc.bodies[0].velocity.z() == -5);
   REQUIRE_THROWS_AS(loadScene(path, {"simulation.end_tme=3e-6"}, library()), InputError);
   REQUIRE_THROWS_AS(loadScene(path, {"bodies.4.velocity=[0,0,-5]"}, library()), InputError);
+  // A value that is no TOML (a string without its quotes) is said to be one, with what would do.
+  for (const char* bad : {"title=steel plate", "simulation.end_time=3e-6 s", "bodies.0.velocity=[0,0"}) {
+    CAPTURE(bad);
+    try {
+      loadScene(path, {bad}, library());
+      FAIL("no error");
+    } catch (const InputError& e) {
+      const std::string value = std::string(bad).substr(std::string(bad).find('=') + 1);
+      CHECK(std::string(e.what()).find("--set " + std::string(bad)) != std::string::npos);
+      CHECK(std::string(e.what()).find("'" + value + "' is not a TOML value: expected a number") !=
+            std::string::npos);
+    }
+  }
   // A bad value from --set has no line in the file: the error names the --set instead.
   try {
     loadScene(path, {"simulation.end_time=3e-6", "bodies.bar.shape.length=-1"}, library());
