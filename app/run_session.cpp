@@ -196,9 +196,12 @@ std::string RunSession::checkpoint() {
   return path;
 }
 
+// One row a step: the end time, or a failure, can fall on a step the interval took already.
 void RunSession::recordHistory() {
+  if (model_.step == history_step_) return;
   history_->record(model_);
   history_h5_->record(model_);
+  history_step_ = model_.step;
 }
 
 bool RunSession::complete() const { return reached(model_.time, endTime()); }

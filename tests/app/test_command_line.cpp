@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,24 @@ Result command(const std::string& args, const fs::path& dir) {
 
 bool has(const std::string& text, const std::string& what) {
   return text.find(what) != std::string::npos;
+}
+
+/// The `step` column of history.csv's rows, in order.
+std::vector<long> historySteps(const fs::path& csv) {
+  std::istringstream in(slurp(csv));
+  std::string line;
+  std::getline(in, line);  // header: time,step,...
+  std::vector<long> steps;
+  while (std::getline(in, line)) steps.push_back(std::stol(line.substr(line.find(',') + 1)));
+  return steps;
+}
+
+/// `steps = N` of a run's summary.toml.
+long summarySteps(const fs::path& summary) {
+  std::smatch m;
+  const std::string text = slurp(summary);
+  REQUIRE(std::regex_search(text, m, std::regex("\nsteps = ([0-9]+)\n")));
+  return std::stol(m[1]);
 }
 
 }  // namespace
@@ -169,4 +188,51 @@ TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app
   CHECK(times[0] == 0);
   CHECK(times[1] == Approx(std::stod(stopped[1])).epsilon(1e-5));
   CHECK(fs::exists(dir.path / "run" / "elements_000001.vtu"));
+  // the history's last row is the step it stopped at, whatever history_every (5 here)
+  const std::vector<long> steps = historySteps(dir.path / "run" / "history.csv");
+  REQUIRE(!steps.empty());
+  CHECK(steps.back() == summarySteps(dir.path / "run" / "summary.toml"));
+}
+
+TEST_CASE("a run that fails at its first step keeps its start, written once", "[app]") {
+  // A floor above the first step's dt: the state it stopped in is the start, which is the
+  // series' first output already, so the series holds that one output (ParaView would show
+  // two at t = 0), and the history one row.
+  const TempFolder dir("failed_first_step");
+  const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
+                               " --set simulation.dt_min=1e-6 --out run --quiet --no-images",
+                           dir.path);
+  INFO(r.out);
+  REQUIRE(r.code == 1);
+  CHECK(has(r.out, "run stopped at t = 0 s, step 0"));
+  CHECK(occurrences(slurp(dir.path / "run" / "elements.pvd"), "<DataSet") == 1);
+  CHECK(occurrences(slurp(dir.path / "run" / "particles.pvd"), "<DataSet") == 1);
+  CHECK(historySteps(dir.path / "run" / "history.csv") == std::vector<long>{0});
+}
+
+TEST_CASE("the history takes every n-th step from the first, and the last once", "[app]") {
+  // Reference: README, [output] history_every: rows at steps 1, 1 + n, 1 + 2n, ... and at the
+  // end time, so a plot of the history reaches the run's end, each step once. The test scene:
+  // n = 5; to 4 us it ends at step 119, between two rows' steps; to 3.1 us at step 96, on one
+  // (whose row was written twice up to the thirty-fourth session).
+  for (const char* end : {"4e-6", "3.1e-6"}) {
+    CAPTURE(end);
+    const TempFolder dir("history_rows");
+    const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
+                                 " --set simulation.end_time=" + end + " --out run --quiet --no-images",
+                             dir.path);
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const std::vector<long> steps = historySteps(dir.path / "run" / "history.csv");
+    const long last = summarySteps(dir.path / "run" / "summary.toml");
+    // the two cases this test is for (another solver may need other end times here)
+    INFO("the last step " << last << " must fall " << (end[0] == '4' ? "between" : "on")
+                          << " the rows' steps");
+    REQUIRE(((last - 1) % 5 == 0) == (end[0] != '4'));
+    REQUIRE(steps.size() >= 5);
+    std::vector<long> expected;
+    for (long s = 1; s < last; s += 5) expected.push_back(s);
+    if (expected.back() != last) expected.push_back(last);
+    CHECK(steps == expected);
+  }
 }
