@@ -194,6 +194,38 @@ TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app
   CHECK(steps.back() == summarySteps(dir.path / "run" / "summary.toml"));
 }
 
+TEST_CASE("a run's summary counts what its last output holds", "[app]") {
+  // summary.toml's live elements and particles against the cells and points of the files
+  // written at the end time (their XML headers), for a run converting elements to particles
+  // and one eroding them: each count is the model's, not the converted or eroded ones'.
+  for (const char* mode : {"sph", "erosion"}) {
+    CAPTURE(mode);
+    const TempFolder dir(std::string("summary_counts_") + mode);
+    const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
+                                 " --set 'conversion.mode=\"" + mode + "\"' --out run --quiet --no-images",
+                             dir.path);
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const std::string summary = slurp(dir.path / "run" / "summary.toml");
+    const auto value = [&](const std::string& key) {
+      std::smatch m;
+      REQUIRE(std::regex_search(summary, m, std::regex("\n" + key + " = ([0-9]+)\n")));
+      return std::stol(m[1]);
+    };
+    const auto header = [&](const char* file, const std::string& count) {
+      std::smatch m;
+      const std::string text = slurp(dir.path / "run" / file).substr(0, 2000);
+      REQUIRE(std::regex_search(text, m, std::regex(count + "=\"([0-9]+)\"")));
+      return std::stol(m[1]);
+    };
+    const long changed = value("converted") + value("eroded");
+    CHECK(changed > 20);
+    CHECK(value("live_elements") == value("elements") - changed);
+    CHECK(value("live_elements") == header("elements_000004.vtu", "NumberOfCells"));
+    CHECK(value("particles") == header("particles_000004.vtp", "NumberOfPoints"));
+  }
+}
+
 TEST_CASE("a run that fails at its first step keeps its start, written once", "[app]") {
   // A floor above the first step's dt: the state it stopped in is the start, which is the
   // series' first output already, so the series holds that one output (ParaView would show
