@@ -196,12 +196,12 @@ std::string RunSession::checkpoint() {
   return path;
 }
 
-// One row a step: the end time, or a failure, can fall on a step the interval took already.
+// One row a step: the end time, or a failure, can fall on a step that has its row already
+// (taken at the interval, or before the checkpoint a run continues from).
 void RunSession::recordHistory() {
-  if (model_.step == history_step_) return;
+  if (history_->lastStep() == model_.step) return;
   history_->record(model_);
   history_h5_->record(model_);
-  history_step_ = model_.step;
 }
 
 bool RunSession::complete() const { return reached(model_.time, endTime()); }

@@ -113,7 +113,6 @@ class RunSession {
   bool started_ = false;     ///< the initial output is written
   long output_index_ = 0;    ///< field outputs written after the initial one
   double last_output_time_ = -1;  ///< time of the last field output written, s
-  long history_step_ = -1;        ///< step of the last history row written
   double next_output_ = 0;   ///< time of the next field output, s
   double next_checkpoint_ = 0;  ///< time of the next checkpoint, s
   double wall_solver_ = 0;   ///< s spent in step()

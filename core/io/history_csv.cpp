@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace fesph {
@@ -36,6 +37,10 @@ HistoryCsv::HistoryCsv(const std::string& path, std::size_t rows) : path_(path) 
   if (lines < rows + 1)
     throw RunError(path + ": " + std::to_string(lines ? lines - 1 : 0) + " rows, the checkpoint "
                    "expects " + std::to_string(rows));
+  if (rows > 0) {  // the step column of the last row kept: time,step,...
+    const std::size_t row = kept.rfind('\n', kept.size() - 2) + 1;
+    last_step_ = std::strtol(kept.c_str() + kept.find(',', row) + 1, nullptr, 10);
+  }
   replaceFile(path, kept);
   out_.open(path, std::ios::app);
   if (!out_) throw RunError("cannot write history file " + path);
@@ -50,6 +55,7 @@ void HistoryCsv::record(const Model& model) {
   };
   std::snprintf(buf, sizeof buf, "%.10g", en.time);
   out_ << buf << ',' << model.step;
+  last_step_ = model.step;
   for (double x : {model.dt, en.kinetic, en.internal, en.plastic_work, en.bulk_viscosity,
                    en.contact, en.eroded, en.conversion, en.total(), en.balanceError(),
                    en.momentum.x(), en.momentum.y(), en.momentum.z()})

@@ -20,10 +20,13 @@ class HistoryCsv {
   /// Append the budget at model.energy.time.
   void record(const Model& model);
   const std::string& path() const { return path_; }
+  /// The step of the last row (a continued file's included); -1 before the first.
+  long lastStep() const { return last_step_; }
 
  private:
   std::string path_;
   std::ofstream out_;
+  long last_step_ = -1;
 };
 
 }  // namespace fesph

@@ -9,8 +9,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -240,6 +242,36 @@ TEST_CASE("a run that fails at its first step keeps its start, written once", "[
   CHECK(occurrences(slurp(dir.path / "run" / "elements.pvd"), "<DataSet") == 1);
   CHECK(occurrences(slurp(dir.path / "run" / "particles.pvd"), "<DataSet") == 1);
   CHECK(historySteps(dir.path / "run" / "history.csv") == std::vector<long>{0});
+}
+
+TEST_CASE("a continued run that fails at once writes no output or history row twice", "[app]") {
+  // A run to 1 us with its checkpoint there (its last output and history row at that step),
+  // continued to 2 us under a time step floor it falls under at once: the state it stopped
+  // in is the checkpoint's, already in the series and the history. Each output time and
+  // each history step once (the row was written twice up to the thirty-fourth session).
+  const TempFolder dir("failed_restart");
+  const std::string scene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
+  REQUIRE(command("run " + scene + " --set simulation.end_time=1e-6 --set "
+                  "output.checkpoint_interval=1e-6 --out run --quiet --no-images",
+                  dir.path).code == 0);
+  std::vector<fs::path> checkpoints;
+  for (const auto& entry : fs::directory_iterator(dir.path / "run"))
+    if (entry.path().filename().string().rfind("checkpoint_", 0) == 0)
+      checkpoints.push_back(entry.path());
+  REQUIRE(checkpoints.size() == 1);
+  const Result r = command("run --restart " + checkpoints[0].string() +
+                               " --set simulation.end_time=2e-6 --set simulation.dt_min=1e-6 "
+                               "--quiet --no-images",
+                           dir.path);
+  INFO(r.out);
+  REQUIRE(r.code == 1);
+  CHECK(has(r.out, "run stopped at t = "));
+  const std::string pvd = slurp(dir.path / "run" / "elements.pvd");
+  CHECK(occurrences(pvd, "<DataSet") == 2);  // 0 and 1 us
+  CHECK(occurrences(pvd, "timestep=\"1e-06\"") == 1);
+  const std::vector<long> steps = historySteps(dir.path / "run" / "history.csv");
+  REQUIRE(steps.size() >= 2);
+  CHECK(std::adjacent_find(steps.begin(), steps.end(), std::greater_equal<long>()) == steps.end());
 }
 
 TEST_CASE("the history takes every n-th step from the first, and the last once", "[app]") {
