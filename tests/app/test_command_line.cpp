@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // `fesph run` and `fesph render` through the binary: a scene named from its own folder,
 // command-line values that say what was expected when they are wrong, an output folder that
-// cannot be made, a restart that refuses changes it could not make, and a failed run's last
-// state.
+// cannot be made, a restart that refuses changes it could not make, a failed run's last
+// state (also at its first step, and at once after a restart), the history's rows and the
+// summary's counts.
 #include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/text.hpp"
