@@ -38,6 +38,14 @@ bool has(const std::string& text, const std::string& what) {
   return text.find(what) != std::string::npos;
 }
 
+/// fesph run of the test scene (tests/app/shell_scene.toml) with `options`, into `dir`/run,
+/// quietly and without images.
+Result runTestScene(const std::string& options, const fs::path& dir) {
+  return command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml " + options +
+                     " --out run --quiet --no-images",
+                 dir);
+}
+
 /// The `step` column of history.csv's rows, in order.
 std::vector<long> historySteps(const fs::path& csv) {
   std::istringstream in(slurp(csv));
@@ -174,9 +182,7 @@ TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app
   // A time step floor the run falls under at its 17th step: the error names the element whose
   // step collapsed, and the state is where to look at it.
   const TempFolder dir("failed_state");
-  const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
-                               " --set simulation.dt_min=3e-8 --out run --quiet --no-images",
-                           dir.path);
+  const Result r = runTestScene("--set simulation.dt_min=3e-8", dir.path);
   INFO(r.out);
   REQUIRE(r.code == 1);
   std::smatch stopped;
@@ -204,9 +210,8 @@ TEST_CASE("a run's summary counts what its last output holds", "[app]") {
   for (const char* mode : {"sph", "erosion"}) {
     CAPTURE(mode);
     const TempFolder dir(std::string("summary_counts_") + mode);
-    const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
-                                 " --set 'conversion.mode=\"" + mode + "\"' --out run --quiet --no-images",
-                             dir.path);
+    const Result r =
+        runTestScene(std::string("--set 'conversion.mode=\"") + mode + "\"'", dir.path);
     INFO(r.out);
     REQUIRE(r.code == 0);
     const std::string summary = slurp(dir.path / "run" / "summary.toml");
@@ -234,9 +239,7 @@ TEST_CASE("a run that fails at its first step keeps its start, written once", "[
   // series' first output already, so the series holds that one output (ParaView would show
   // two at t = 0), and the history one row.
   const TempFolder dir("failed_first_step");
-  const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
-                               " --set simulation.dt_min=1e-6 --out run --quiet --no-images",
-                           dir.path);
+  const Result r = runTestScene("--set simulation.dt_min=1e-6", dir.path);
   INFO(r.out);
   REQUIRE(r.code == 1);
   CHECK(has(r.out, "run stopped at t = 0 s, step 0"));
@@ -251,10 +254,8 @@ TEST_CASE("a continued run that fails at once writes no output or history row tw
   // in is the checkpoint's, already in the series and the history. Each output time and
   // each history step once (the row was written twice up to the thirty-fourth session).
   const TempFolder dir("failed_restart");
-  const std::string scene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
-  REQUIRE(command("run " + scene + " --set simulation.end_time=1e-6 --set "
-                  "output.checkpoint_interval=1e-6 --out run --quiet --no-images",
-                  dir.path).code == 0);
+  REQUIRE(runTestScene("--set simulation.end_time=1e-6 --set output.checkpoint_interval=1e-6",
+                       dir.path).code == 0);
   std::vector<fs::path> checkpoints;
   for (const auto& entry : fs::directory_iterator(dir.path / "run"))
     if (entry.path().filename().string().rfind("checkpoint_", 0) == 0)
@@ -283,9 +284,7 @@ TEST_CASE("the history takes every n-th step from the first, and the last once",
   for (const char* end : {"4e-6", "3.1e-6"}) {
     CAPTURE(end);
     const TempFolder dir("history_rows");
-    const Result r = command("run " + std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml" +
-                                 " --set simulation.end_time=" + end + " --out run --quiet --no-images",
-                             dir.path);
+    const Result r = runTestScene(std::string("--set simulation.end_time=") + end, dir.path);
     INFO(r.out);
     REQUIRE(r.code == 0);
     const std::vector<long> steps = historySteps(dir.path / "run" / "history.csv");

@@ -89,7 +89,8 @@ TEST_CASE("figures of merit: the model's footprint is the heap its arrays hold",
     const Footprint f = modelFootprint(m);
     std::printf("[figures] %s: %zu particles, %zu elements: footprint %zu B, heap held %zu B "
                 "(%.1f %%)\n", half ? "half" : "full", m.particles.size(), m.elems.size(),
-                f.total(), held, 100.0 * static_cast<double>(f.total()) / static_cast<double>(held));
+                f.total(), held,
+                100.0 * static_cast<double>(f.total()) / static_cast<double>(held));
     REQUIRE(m.particles.size() > (half ? 500u : 1000u));
     if (half) REQUIRE(m.sph.mirrors.size() == 1);
     CHECK(f.total() <= held);
