@@ -25,9 +25,16 @@ struct Circle {
   bool contains(double px, double py) const { return std::hypot(px - x, py - y) < r; }
 };
 
-/// A plate of 1 mm cubes over [x0, x0 + nx mm] x [y0, y0 + ny mm] x [-nz mm, 0] with the cube
-/// columns whose centre lies in one of `holes` removed. Also returns the true holes: area and
-/// centroid of the removed columns (of each circle, full plate when `mirror_y`).
+/// Centre (mm) of the 1 mm cube column, on whole millimetres, that holds tet t's centroid.
+std::pair<double, double> columnCentre(const std::vector<Vec3>& x, const std::array<int, 4>& t) {
+  const Vec3 c = 0.25e3 * (x[t[0]] + x[t[1]] + x[t[2]] + x[t[3]]);
+  return {std::floor(c.x()) + 0.5, std::floor(c.y()) + 0.5};
+}
+
+/// A plate of 1 mm cubes over [x0, x0 + nx mm] x [y0, y0 + ny mm] x [-nz mm, 0] (x0, y0 whole
+/// mm) with the cube columns whose centre lies in one of `holes` removed. Also returns the
+/// true holes: area and centroid of the removed columns (of each circle, full plate when
+/// `mirror_y`).
 struct HolePlate {
   TetMesh mesh;
   std::vector<std::array<int, 4>> live;
@@ -42,15 +49,8 @@ HolePlate holePlate(double x0, double y0, int nx, int ny, int nz, const std::vec
   HolePlate p;
   p.mesh = structuredBox(Vec3(x0 * mm, y0 * mm, -nz * mm), Vec3(nx * mm, ny * mm, nz * mm), nx,
                          ny, nz);
-  const auto column = [&](const Vec3& c) {
-    // centre of the cube column holding point c, in mm
-    return std::pair<double, double>{x0 + std::floor(c.x() / mm - x0) + 0.5,
-                                     y0 + std::floor(c.y() / mm - y0) + 0.5};
-  };
   for (const auto& t : p.mesh.tets) {
-    const Vec3 c = 0.25 * (p.mesh.nodes[t[0]] + p.mesh.nodes[t[1]] + p.mesh.nodes[t[2]] +
-                           p.mesh.nodes[t[3]]);
-    const auto [cx, cy] = column(c);
+    const auto [cx, cy] = columnCentre(p.mesh.nodes, t);
     bool gone = false;
     for (const Circle& h : holes) gone |= h.contains(cx, cy);
     p.eroded.push_back(gone);
@@ -90,9 +90,8 @@ std::vector<std::array<int, 4>> columnsKept(const TetMesh& mesh,
                                             bool (*keep)(double cx, double cy)) {
   std::vector<std::array<int, 4>> live;
   for (const auto& t : mesh.tets) {
-    const Vec3 c = 0.25e3 * (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]] +
-                             mesh.nodes[t[3]]);
-    if (keep(std::floor(c.x()) + 0.5, std::floor(c.y()) + 0.5)) live.push_back(t);
+    const auto [cx, cy] = columnCentre(mesh.nodes, t);
+    if (keep(cx, cy)) live.push_back(t);
   }
   return live;
 }
@@ -396,8 +395,7 @@ TEST_CASE("hole metrics: no hole, and a loose plug does not close a hole", "[uni
     std::vector<Vec3> x = p.mesh.nodes;
     for (std::size_t e = 0; e < p.mesh.tets.size(); ++e) {
       const auto& t = p.mesh.tets[e];
-      const Vec3 c = 0.25 * (x[t[0]] + x[t[1]] + x[t[2]] + x[t[3]]);
-      const double cx = std::floor(c.x() * 1e3) + 0.5, cy = std::floor(c.y() * 1e3) + 0.5;
+      const auto [cx, cy] = columnCentre(x, t);
       if (!p.eroded[e] || std::hypot(cx, cy) < 5) live.push_back(t);
     }
     for (Vec3& q : x)
