@@ -30,13 +30,9 @@
 
 namespace fesph {
 
-namespace {
+namespace render_detail {
 
-struct Series {
-  std::vector<double> t_us, v;
-};
-
-Series readVelocity(const std::string& csv, std::string body, VelocityMeasure measure) {
+VelocitySeries readVelocity(const std::string& csv, std::string body, VelocityMeasure measure) {
   std::ifstream in(csv);
   if (!in) throw RunError("cannot read " + csv);
   if (body.empty()) {
@@ -63,7 +59,7 @@ Series readVelocity(const std::string& csv, std::string body, VelocityMeasure me
   };
   const std::size_t it = column("time"), ix = column(body + "_vx"), iy = column(body + "_vy"),
                     iz = column(body + "_vz");
-  Series s;
+  VelocitySeries s;
   std::vector<double> row;
   while (std::getline(in, line)) {
     row.clear();
@@ -79,6 +75,10 @@ Series readVelocity(const std::string& csv, std::string body, VelocityMeasure me
   if (s.t_us.empty()) throw RunError(csv + ": no rows");
   return s;
 }
+
+}  // namespace render_detail
+
+namespace {
 
 void styleAxis(vtkAxis* axis, const std::string& title, int font) {
   axis->SetTitle(title);
@@ -133,7 +133,7 @@ std::string renderVelocityPlot(
   double vmin = 0, vmax = 0;
   for (std::size_t k = 0; k < label_and_history_csv.size(); ++k) {
     const auto& [label, csv] = label_and_history_csv[k];
-    const Series s = readVelocity(csv, body, measure);
+    const render_detail::VelocitySeries s = render_detail::readVelocity(csv, body, measure);
     vtkNew<vtkTable> table;
     vtkNew<vtkDoubleArray> t, v;
     t->SetName("time");

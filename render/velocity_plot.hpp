@@ -16,6 +16,21 @@ enum class VelocityMeasure {
   MinusVz,    ///< -v_z: the speed along -z, the usual direction of flight
 };
 
+namespace render_detail {
+
+/// A body's velocity over a run, one entry per history row.
+struct VelocitySeries {
+  std::vector<double> t_us;  ///< time, µs
+  std::vector<double> v;     ///< |v| or -v_z (VelocityMeasure), m/s
+};
+
+/// The <body>_vx, _vy, _vz columns of one history.csv; `body` empty: the run's projectile
+/// (from scene.toml beside the file), else its first body. A row cut short (the last row of a
+/// stopped run) is skipped. Throws RunError for a missing file or column, or no row.
+VelocitySeries readVelocity(const std::string& csv, std::string body, VelocityMeasure measure);
+
+}  // namespace render_detail
+
 /// Colour of the k-th curve (0-255 RGB; the test looks for these pixels).
 void curveColour(int k, unsigned char rgb[3]);
 

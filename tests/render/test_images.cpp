@@ -187,7 +187,73 @@ TEST_CASE("velocity plot draws one curve per run", "[unit][render]") {
     curveColour(k, c);
     CHECK(img.count([&](const unsigned char* p) { return near(p, c, 30); }) > 300);
   }
+  // Velocity from 0: a curve's heights above the time axis are in the ratio of its velocities
+  // (run B: 800 m/s at the start, 430 at the end). The axis: the longest dark row.
+  int axis_y = 0, axis_run = 0;
+  for (int y = 0; y < img.height / 2; ++y) {
+    const int run = static_cast<int>(img.count(
+        [](const unsigned char* p) { return p[0] < 80 && p[1] < 80 && p[2] < 80; }, 0, y,
+        img.width - 1, y));
+    if (run > axis_run) axis_run = run, axis_y = y;
+  }
+  REQUIRE(axis_run > img.width / 2);
+  unsigned char b[3];
+  curveColour(1, b);
+  std::vector<std::pair<int, int>> curve;  // (x, y) of run B's pixels
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (near(img.at(x, y), b, 30)) curve.emplace_back(x, y);
+  REQUIRE(!curve.empty());
+  int x_first = img.width;
+  for (const auto& [x, y] : curve) x_first = std::min(x_first, x);
+  // Mean height of the pixels with x in [x0, x1] and y below y_max.
+  const auto meanHeight = [&](int x0, int x1, int y_max) {
+    double sum = 0, n = 0;
+    for (const auto& [x, y] : curve)
+      if (x >= x0 && x <= x1 && y < y_max) sum += y - axis_y, n += 1;
+    return n > 0 ? sum / n : 0.0;
+  };
+  const double start = meanHeight(x_first, x_first + img.width / 30, img.height);
+  // The end: the rightmost pixels below 70 % of the start's height (the legend's sample of
+  // the colour sits at the top).
+  const int y_cut = axis_y + static_cast<int>(0.7 * start);
+  int x_last = 0;
+  for (const auto& [x, y] : curve)
+    if (y < y_cut) x_last = std::max(x_last, x);
+  const double end = meanHeight(x_last - img.width / 30, x_last, y_cut);
+  REQUIRE(end > 0);
+  CHECK(start / end == Approx(800.0 / 430.0).epsilon(0.03));
   CHECK_THROWS_AS(renderVelocityPlot({{"x", (dir.path / "a" / "history.csv").string()}}, "nobody",
                                      (dir.path / "bad.png").string(), options),
+                  RunError);
+}
+
+TEST_CASE("velocity histories are read for the projectile, in microseconds", "[unit][render]") {
+  TempFolder dir("velocity_read");
+  const fs::path csv = dir.path / "history.csv";
+  {
+    std::ofstream out(csv);
+    out << "time,step,dt,kinetic,plate_vx,plate_vy,plate_vz,bullet_vx,bullet_vy,bullet_vz\n"
+        << "0,0,1e-9,0,0,0,0,30,40,-1200\n"
+        << "1e-06,1,1e-9,0,1,2,-2,0,0,-900\n"
+        << "2e-06,2,1e-9,0,0\n";  // cut short by a stopped run
+  }
+  using render_detail::readVelocity;
+  // Without scene.toml: the history's first body.
+  CHECK(readVelocity(csv.string(), "", VelocityMeasure::MinusVz).v ==
+        std::vector<double>{0.0, 2.0});
+  // With it: its projectile, though it is not the first body.
+  std::ofstream(dir.path / "scene.toml") << "[[bodies]]\nname = \"plate\"\n"
+                                            "[[bodies]]\nname = \"bullet\"\nprojectile = true\n";
+  const render_detail::VelocitySeries speed = readVelocity(csv.string(), "", VelocityMeasure::Speed);
+  CHECK(speed.t_us == std::vector<double>{0.0, 1.0});
+  REQUIRE(speed.v.size() == 2);
+  CHECK(speed.v[0] == Approx(std::sqrt(30.0 * 30 + 40 * 40 + 1200 * 1200)));
+  CHECK(speed.v[1] == Approx(900));
+  CHECK(readVelocity(csv.string(), "", VelocityMeasure::MinusVz).v ==
+        std::vector<double>{1200.0, 900.0});
+  CHECK(readVelocity(csv.string(), "plate", VelocityMeasure::Speed).v[1] == Approx(3));
+  CHECK_THROWS_AS(readVelocity(csv.string(), "nobody", VelocityMeasure::Speed), RunError);
+  CHECK_THROWS_AS(readVelocity((dir.path / "missing.csv").string(), "", VelocityMeasure::Speed),
                   RunError);
 }
