@@ -19,6 +19,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -90,17 +91,43 @@ double parseTime(const std::string& text) {
   return t * scale;
 }
 
-/// A TOML value as it would be written in a scene (the library's formatters are off).
+/// A TOML basic string: quoted, with backslashes, quotes and control characters escaped.
+std::string tomlString(std::string_view text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\b': out += "\\b"; break;
+      case '\t': out += "\\t"; break;
+      case '\n': out += "\\n"; break;
+      case '\f': out += "\\f"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char code[8];
+          std::snprintf(code, sizeof code, "\\u%04x", static_cast<unsigned char>(c));
+          out += code;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+/// A TOML value as it would be written in a scene (the library's formatters are off). A float
+/// takes the shortest form that reads back as the same double: an exported scene is the scene.
 std::string tomlText(const toml::node& node) {
-  char buf[40];
   if (const auto* v = node.as_floating_point()) {
-    std::snprintf(buf, sizeof buf, "%.9g", v->get());
-    const std::string s = buf;
+    char buf[40];
+    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, v->get());
+    const std::string s(buf, r.ptr);
     return s.find_first_of(".eEn") == std::string::npos ? s + ".0" : s;
   }
   if (const auto* v = node.as_integer()) return std::to_string(v->get());
   if (const auto* v = node.as_boolean()) return v->get() ? "true" : "false";
-  if (const auto* v = node.as_string()) return "\"" + v->get() + "\"";
+  if (const auto* v = node.as_string()) return tomlString(v->get());
   if (const auto* a = node.as_array()) {
     std::string s = "[";
     for (std::size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + tomlText((*a)[i]);
@@ -187,7 +214,7 @@ std::string tomlKey(std::string_view k) {
   const bool bare = !k.empty() && std::all_of(k.begin(), k.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
   });
-  return bare ? std::string(k) : "\"" + std::string(k) + "\"";
+  return bare ? std::string(k) : tomlString(k);
 }
 
 /// A scene document as TOML text: values first, then [tables], then [[arrays of tables]].

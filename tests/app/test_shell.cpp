@@ -245,6 +245,31 @@ TEST_CASE("fesph shell: a scripted session gives the expected output and files",
   CHECK(occurrences(f.out, "a run folder holds no model to run or probe") == 2);
 }
 
+TEST_CASE("fesph shell: an exported scene holds every digit and character of its values",
+          "[app][shell]") {
+  TempFolder dir("shell_export");
+  const fs::path exported = dir.path / "exported.toml";
+  // A time that nine digits do not hold, and a title with a backslash and double quotes (set
+  // as a TOML literal string).
+  const std::string values = "show simulation.end_time title\n";
+  const Result first = shell(kScene + " --out " + (dir.path / "run").string(),
+                             "set simulation.end_time=3.0000000000000005e-6 "
+                             "title='C:\\runs\\\"q\"'\n" +
+                                 values + "export scene " + exported.string() + "\n",
+                             dir.path);
+  INFO(first.out);
+  REQUIRE(first.code == 0);
+  CHECK(first.out.find("simulation.end_time = 3.0000000000000005e-06\n") != std::string::npos);
+  CHECK(first.out.find("title = \"C:\\\\runs\\\\\\\"q\\\"\"\n") != std::string::npos);
+  // The exported scene loads, and shows the same values.
+  const Result again = shell(exported.string() + " --out " + (dir.path / "again").string(), values,
+                             dir.path);
+  INFO(again.out);
+  REQUIRE(again.code == 0);
+  CHECK(again.out.find(lineWith(first.out, "simulation.end_time = ")) != std::string::npos);
+  CHECK(again.out.find(lineWith(first.out, "title = ")) != std::string::npos);
+}
+
 TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[app][shell]") {
   TempFolder dir("shell_restart");
   const fs::path out = dir.path / "run";
