@@ -150,10 +150,17 @@ TEST_CASE("plate images render headless and show the hole at the right scale", "
                                 static_cast<unsigned char>(255 * c[2])};
   CHECK(front.count([&](const unsigned char* p) { return near(p, red, 60); }) > 50);
 
-  // The rear view has the hole outline in red.
+  // The rear view has the hole outline in red, the whole of its 3-pixel line in view (drawn
+  // on the rear face's side of the plate, not hidden by it).
   const Image rear = readPng(plate.rear_png);
   const unsigned char outline[3] = {227, 26, 28};
-  CHECK(rear.count([&](const unsigned char* p) { return near(p, outline, 40); }) > 100);
+  const std::vector<Vec3>& loop = plate.holes.holes[0].outline;
+  double perimeter = 0;
+  for (std::size_t k = 0; k < loop.size(); ++k) perimeter += (loop[(k + 1) % loop.size()] - loop[k]).norm();
+  const double line_px = 3 * perimeter / plate.pixel_size;
+  const double red_px = static_cast<double>(rear.count([&](const unsigned char* p) { return near(p, outline, 40); }));
+  CHECK(red_px > 0.8 * line_px);
+  CHECK(red_px < 1.25 * line_px);
 }
 
 TEST_CASE("section view renders the y = 0 cut", "[unit][render]") {
