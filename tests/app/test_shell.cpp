@@ -270,6 +270,42 @@ TEST_CASE("fesph shell: an exported scene holds every digit and character of its
   CHECK(again.out.find(lineWith(first.out, "title = ")) != std::string::npos);
 }
 
+TEST_CASE("fesph shell: show and export give the preset's values, and the changes over them",
+          "[app][shell]") {
+  TempFolder dir("shell_preset");
+  // The test scene with a resolution preset that sets the plate's two mesh sizes.
+  std::string text = slurp(kScene);
+  text.insert(text.find("\n[simulation]"), "\nresolution = \"coarse\"\n");
+  text += "\n[resolutions.coarse]\n\"bodies.plate.shape.mesh_size\" = 2e-3\n"
+          "\"bodies.plate.shape.coarse_size\" = 4e-3\n";
+  const fs::path scene = dir.path / "preset.toml", exported = dir.path / "exported.toml";
+  std::ofstream(scene) << text;
+  const std::string sizes = "show bodies.plate.shape.mesh_size bodies.plate.shape.coarse_size\n";
+  const Result first = shell(scene.string() + " --out " + (dir.path / "run").string(),
+                             sizes + "set bodies.1.shape.coarse_size=5e-3\n" + sizes +
+                                 "export scene " + exported.string() + "\n",
+                             dir.path);
+  INFO(first.out);
+  REQUIRE(first.code == 0);
+  // The preset's sizes, then the change made over one of them, by the body's index (a change
+  // wins over a preset, as in the run).
+  CHECK(occurrences(first.out, "bodies.plate.shape.mesh_size = 0.002\n") == 2);
+  const std::size_t preset = first.out.find("bodies.plate.shape.coarse_size = 0.004\n");
+  const std::size_t changed = first.out.find("bodies.plate.shape.coarse_size = 0.005\n");
+  CHECK(preset != std::string::npos);
+  CHECK(changed != std::string::npos);
+  CHECK(preset < changed);
+  // The exported scene is those values on its own: no preset left to apply over them again.
+  CHECK(slurp(exported).find("\nresolution = ") == std::string::npos);
+  CHECK(slurp(exported).find("[resolutions") == std::string::npos);
+  const Result again = shell(exported.string() + " --out " + (dir.path / "again").string(), sizes,
+                             dir.path);
+  INFO(again.out);
+  REQUIRE(again.code == 0);
+  CHECK(again.out.find("bodies.plate.shape.mesh_size = 0.002\n") != std::string::npos);
+  CHECK(again.out.find("bodies.plate.shape.coarse_size = 0.005\n") != std::string::npos);
+}
+
 TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[app][shell]") {
   TempFolder dir("shell_restart");
   const fs::path out = dir.path / "run";
