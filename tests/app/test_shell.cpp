@@ -306,6 +306,32 @@ TEST_CASE("fesph shell: show and export give the preset's values, and the change
   CHECK(again.out.find("bodies.plate.shape.coarse_size = 0.005\n") != std::string::npos);
 }
 
+TEST_CASE("fesph shell: quoted words, comments and times as they are typed", "[app][shell]") {
+  TempFolder dir("shell_words");
+  const fs::path scene = dir.path / "my scene.toml";  // a blank in the path
+  std::ofstream(scene) << slurp(kScene);
+  const std::string script = "load \"" + scene.string() + "\"  # the scene to run\n"
+                             "set title=\"a # b\"\n"
+                             "show title\n"
+                             "run to -1us\n"
+                             "run to 1.5e-3ms\n"
+                             "set title=\"open\n"
+                             "show title\n";
+  const Result r = shell("--out " + (dir.path / "run").string(), script, dir.path);
+  INFO(r.out);
+  CHECK(r.code == 1);  // the two errors
+  CHECK(r.out.find("Scene " + scene.string() + ":") != std::string::npos);
+  // A # inside quotes is text; after them, a comment.
+  CHECK(occurrences(r.out, "title = \"a # b\"\n") == 2);
+  CHECK(r.out.find("error: '-1us' is not a time") != std::string::npos);
+  CHECK(r.out.find("error: unbalanced double quote") != std::string::npos);
+  // 1.5e-3 ms is 1.5 us: the run stops at the first step past it.
+  std::smatch m;
+  REQUIRE(std::regex_search(r.out, m, std::regex("\nt = ([0-9.e+-]+) s, step ([0-9]+), dt = ")));
+  CHECK(std::stod(m[1]) >= 1.5e-6);
+  CHECK(std::stod(m[1]) < 1.6e-6);
+}
+
 TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[app][shell]") {
   TempFolder dir("shell_restart");
   const fs::path out = dir.path / "run";
