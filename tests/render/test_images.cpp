@@ -230,6 +230,20 @@ TEST_CASE("velocity plot draws one curve per run", "[unit][render]") {
   const double end = meanHeight(x_last - img.width / 30, x_last, y_cut);
   REQUIRE(end > 0);
   CHECK(start / end == Approx(800.0 / 430.0).epsilon(0.03));
+  // The velocity axis: the longest dark column, from the time axis up. It ends 8 % above the
+  // highest velocity, so that the curve's start does not run along the frame.
+  int axis_x = 0, axis_top = 0, longest = 0;
+  for (int x = 0; x < img.width / 2; ++x) {
+    int run = 0, top = 0;
+    for (int y = axis_y; y < img.height; ++y) {
+      const unsigned char* p = img.at(x, y);
+      if (!(p[0] < 80 && p[1] < 80 && p[2] < 80)) break;
+      ++run, top = y;
+    }
+    if (run > longest) longest = run, axis_x = x, axis_top = top;
+  }
+  INFO("velocity axis at x = " << axis_x);
+  CHECK(start / (axis_top - axis_y) == Approx(800.0 / (1.08 * 800.0)).epsilon(0.02));
   CHECK_THROWS_AS(renderVelocityPlot({{"x", (dir.path / "a" / "history.csv").string()}}, "nobody",
                                      (dir.path / "bad.png").string(), options),
                   RunError);
