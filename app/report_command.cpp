@@ -48,6 +48,16 @@ std::vector<CsvRow> readCsv(const fs::path& path) {
   return rows;
 }
 
+// A field of the CSV files the report writes, as RFC 4180 has it: quoted, its quotes doubled,
+// where it holds a comma, a quote or a line break. Run labels hold commas ("FE-SPH 0.4
+// (quick, main)"), and a spreadsheet split them into two columns.
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 struct ReportRun {
   fs::path dir;
   std::string label;            ///< e.g. "FE-SPH 0.4 (quick)"
@@ -203,8 +213,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   // Table 1 as CSV and markdown.
   std::ofstream csv(out / "table1.csv");
   csv << "plate,experiment_m_s";
-  for (const auto& [label, v] : ref.published) csv << "," << label << "_m_s";
-  for (const ReportRun& r : runs) csv << "," << r.label << "_m_s";
+  for (const auto& [label, v] : ref.published) csv << "," << csvField(label + "_m_s");
+  for (const ReportRun& r : runs) csv << "," << csvField(r.label + "_m_s");
   csv << "\n";
   std::ostringstream md;
   std::time_t now = std::time(nullptr);
@@ -261,7 +271,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
          << percent(at(r.piece_fraction, k)) << " | " << velocity(v_all) << " | "
          << error(v_all, at(ref.experiment, k)) << " | " << percent(at(r.through_fraction, k))
          << " |\n";
-      through_csv << k + 1 << "," << r.label << "," << velocity(at(r.residual, k)) << ","
+      through_csv << k + 1 << "," << csvField(r.label) << "," << velocity(at(r.residual, k)) << ","
                   << at(r.piece_fraction, k) << "," << velocity(v_all) << ","
                   << at(r.through_fraction, k) << "\n";
     }
@@ -285,13 +295,13 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
                   100 * summaryNumber(r, "energy_balance"),
                   summaryString(r, "status", "no summary.toml").c_str());
     md << line;
-    runs_csv << r.label << "," << r.dir.string() << ","
-             << summaryString(r, "conversion_mode", "") << ","
-             << summaryNumber(r, "plastic_strain") << "," << r.scene.resolution << ","
+    runs_csv << csvField(r.label) << "," << csvField(r.dir.string()) << ","
+             << csvField(summaryString(r, "conversion_mode", "")) << ","
+             << summaryNumber(r, "plastic_strain") << "," << csvField(r.scene.resolution) << ","
              << summaryNumber(r, "elements") << "," << summaryNumber(r, "particles") << ","
              << summaryNumber(r, "steps") << "," << summaryNumber(r, "time") << "," << wall << ","
              << threads << "," << summaryNumber(r, "energy_balance") << ","
-             << summaryString(r, "status", "") << "\n";
+             << csvField(summaryString(r, "status", "")) << "\n";
   }
 
   // Half models: no particle may cross a symmetry plane (docs/sph.md, "Symmetry planes"); runs
