@@ -250,8 +250,8 @@ TEST_CASE("fesph shell: an exported scene holds every digit and character of its
   TempFolder dir("shell_export");
   const fs::path exported = dir.path / "exported.toml";
   // A time that nine digits do not hold, and a title with a backslash and double quotes (set
-  // as a TOML literal string).
-  const std::string values = "show simulation.end_time title\n";
+  // as a TOML literal string); the scene's velocity, whole numbers written as floats.
+  const std::string values = "show simulation.end_time title bodies.0.velocity\n";
   const Result first = shell(kScene + " --out " + (dir.path / "run").string(),
                              "set simulation.end_time=3.0000000000000005e-6 "
                              "title='C:\\runs\\\"q\"'\n" +
@@ -268,6 +268,9 @@ TEST_CASE("fesph shell: an exported scene holds every digit and character of its
   REQUIRE(again.code == 0);
   CHECK(again.out.find(lineWith(first.out, "simulation.end_time = ")) != std::string::npos);
   CHECK(again.out.find(lineWith(first.out, "title = ")) != std::string::npos);
+  // Floats stay floats, whole ones too (an integer literal past 2^63 would not even parse).
+  CHECK(first.out.find("bodies.0.velocity = [0.0, 0.0, -600.0]\n") != std::string::npos);
+  CHECK(again.out.find("bodies.0.velocity = [0.0, 0.0, -600.0]\n") != std::string::npos);
 }
 
 TEST_CASE("fesph shell: show and export give the preset's values, and the changes over them",
