@@ -23,17 +23,22 @@ namespace {
 
 // ---- --set overrides ------------------------------------------------------------------
 
-// Set the value at a dotted path ("bodies.0.shape.mesh_size"). An array element is named by
-// its index or, for arrays of tables, by the table's `name` ("bodies.plate_1.velocity").
-// `src`, `line`, `col`: where the assignment comes from, for errors.
-void setAt(toml::table& root, const std::string& path, const toml::node& value,
-           const std::string& src, int line, int col) {
+// The parts of a dotted key path ("bodies.0.shape.mesh_size").
+std::vector<std::string> pathParts(const std::string& path, const std::string& src, int line,
+                                   int col) {
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
   if (parts.empty() || std::any_of(parts.begin(), parts.end(), [](auto& p) { return p.empty(); }))
     throw InputError(src, line, col, "'" + path + "' is not a dotted key path");
+  return parts;
+}
 
+// The table that holds the last part of a dotted path, tables on the way made where missing.
+// An array element is named by its index or, for arrays of tables, by the table's `name`
+// ("bodies.plate_1.velocity"). `src`, `line`, `col`: where the path comes from, for errors.
+toml::table& parentTable(toml::table& root, const std::vector<std::string>& parts,
+                         const std::string& path, const std::string& src, int line, int col) {
   toml::node* node = &root;
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
     const std::string& p = parts[i];
@@ -65,7 +70,14 @@ void setAt(toml::table& root, const std::string& path, const toml::node& value,
   toml::table* target = node->as_table();
   if (!target)
     throw InputError(src, line, col, "the parent of '" + parts.back() + "' is not a table");
-  target->insert_or_assign(parts.back(), value);
+  return *target;
+}
+
+// Set the value at a dotted path (see parentTable).
+void setAt(toml::table& root, const std::string& path, const toml::node& value,
+           const std::string& src, int line, int col) {
+  const std::vector<std::string> parts = pathParts(path, src, line, col);
+  parentTable(root, parts, path, src, line, col).insert_or_assign(parts.back(), value);
 }
 
 void applyOverride(toml::table& root, const std::string& assignment) {
@@ -105,6 +117,21 @@ std::string applyResolution(toml::table& root, const std::string& file) {
     setAt(root, std::string(k.str()), v, file, static_cast<int>(k.source().begin.line),
           static_cast<int>(k.source().begin.column));
   return name;
+}
+
+// The preset `name`'s entries set to the values the scene now holds at their paths: once the
+// overrides have been applied over the preset, the scene as run applies its preset again
+// when it is read, and must get the same values (a --set of a key the preset sets was undone).
+void presetAsRun(toml::table& root, const std::string& name, const std::string& file) {
+  toml::table* preset = root["resolutions"][name].as_table();
+  if (!preset) return;
+  std::vector<std::string> keys;
+  for (auto&& [k, v] : *preset) keys.emplace_back(k.str());
+  for (const std::string& key : keys) {
+    const std::vector<std::string> parts = pathParts(key, file, 0, 0);
+    const toml::node* now = parentTable(root, parts, key, file, 0, 0).get(parts.back());
+    if (now) preset->insert_or_assign(key, *now);
+  }
 }
 
 // ---- pieces of the scene ----------------------------------------------------------------
@@ -510,8 +537,10 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   for (const std::string& o : overrides) applyOverride(root, o);
   // The resolution preset first, then the --set overrides again so that they win over it.
   sc.resolution = applyResolution(root, file);
-  if (sc.resolution != "default")
+  if (sc.resolution != "default" && !overrides.empty()) {
     for (const std::string& o : overrides) applyOverride(root, o);
+    presetAsRun(root, sc.resolution, file);
+  }
   // The scene as it runs: overrides and preset applied, every number to round-trip precision.
   std::ostringstream effective;
   effective << "# fesph: the scene " << path << " as run (resolution " << sc.resolution;

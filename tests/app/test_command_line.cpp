@@ -300,3 +300,29 @@ TEST_CASE("the history takes every n-th step from the first, and the last once",
     CHECK(steps == expected);
   }
 }
+
+TEST_CASE("a run folder's scene reruns as it ran, a --set over its resolution preset too",
+          "[app]") {
+  TempFolder dir("cli_rerun");
+  // The test scene with a preset that coarsens the plate, and a --set that refines it again.
+  std::string text = slurp(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml");
+  text.insert(text.find("\n[simulation]"), "\nresolution = \"coarse\"\n");
+  text += "\n[resolutions.coarse]\n\"bodies.plate.shape.mesh_size\" = 2e-3\n";
+  std::ofstream(dir.path / "preset.toml") << text;
+  const auto elements = [&](const std::string& run) {
+    std::smatch m;
+    const std::string summary = slurp(dir.path / run / "summary.toml");
+    REQUIRE(std::regex_search(summary, m, std::regex("\nelements = ([0-9]+)\n")));
+    return std::stol(m[1]);
+  };
+  const std::string quick = " --end-time 1e-7 --quiet --no-images --out ";
+  REQUIRE(command("run preset.toml" + quick + "coarse", dir.path).code == 0);
+  REQUIRE(command("run preset.toml --set bodies.plate.shape.mesh_size=1e-3" + quick + "fine",
+                  dir.path)
+              .code == 0);
+  REQUIRE(elements("fine") > elements("coarse"));  // the --set won over the preset
+  // The run folder's scene.toml alone gives the run it holds: the preset read with it again
+  // does not undo the --set.
+  REQUIRE(command("run fine/scene.toml" + quick + "again", dir.path).code == 0);
+  CHECK(elements("again") == elements("fine"));
+}
