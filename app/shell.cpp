@@ -260,15 +260,6 @@ std::string sceneWithChanges(const std::string& text, const std::string& name,
   return out;
 }
 
-/// The --set changes a run's copy of its scene lists as "# --set KEY=VALUE" lines.
-std::vector<std::string> listedChanges(const std::string& scene_text) {
-  std::vector<std::string> changes;
-  std::istringstream lines(scene_text);
-  for (std::string l; std::getline(lines, l);)
-    if (l.rfind("# --set ", 0) == 0) changes.push_back(l.substr(8));
-  return changes;
-}
-
 std::string readText(const fs::path& path) {
   std::ifstream in(path);
   std::stringstream text;
@@ -462,7 +453,9 @@ void Workbench::load(const std::vector<std::string>& a) {
     run_dir_ = path;
     const std::string text = readText(fs::path(path) / "scene.toml");
     try {
-      scene_text_ = text.empty() ? "" : sceneWithChanges(text, path + "/scene.toml", listedChanges(text));
+      // The scene as run: its changes and preset applied already (the preset holds the values
+      // as run, so applying it again changes nothing).
+      scene_text_ = text.empty() ? "" : sceneWithChanges(text, path + "/scene.toml", {});
     } catch (const InputError&) {
       scene_text_.clear();  // a copy that no longer parses: no values to show
     }
@@ -835,9 +828,9 @@ void Workbench::restart(const std::vector<std::string>& a) {
   }
   auto s = std::make_unique<RunSession>();
   s->restart(path, changes, out, &std::cout);
-  // The scene is the one saved in the checkpoint, with the --set changes it lists.
+  // The scene is the one saved in the checkpoint, with its --set changes.
   const Scene& sc = s->scene();
-  overrides_ = listedChanges(sc.text);
+  overrides_ = sc.overrides;
   scene_text_ = sceneWithChanges(sc.text, sc.path, overrides_);
   scene_path_ = sc.path;
   run_dir_.clear();

@@ -359,6 +359,8 @@ TEST_CASE("fesph shell: checkpoint, run on, restart from it, the same end", "[ap
   CHECK(std::stod(m[3]) >= 1.2e-6);
   CHECK(r.out.find("Restarted at t = " + std::string(m[3]) + " s, step " + step + " of 3e-06 s") != std::string::npos);
   CHECK(r.out.find("model      t = " + std::string(m[3]) + " s of 3e-06 s, step " + step) != std::string::npos);
+  // The change the checkpoint's scene lists is the one made before it, as it was typed.
+  CHECK(r.out.find("\nchanged    simulation.end_time=3e-6\n") != std::string::npos);
   // The probe after the restarted run equals the probe after the straight one, line by line.
   const std::size_t first = r.out.find("projectile 'projectile'\n");
   const std::size_t second = r.out.find("projectile 'projectile'\n", first + 1);
