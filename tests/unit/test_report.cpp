@@ -179,6 +179,16 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
             .find("7 particles (0.002 kg, 25.0 % of the particles' mass) are across the "
                   "symmetry plane") != std::string::npos);
 
+  // A run folder named with a trailing slash is the same run; a run of a scene with more
+  // plates than the first run's (its residual velocities: a third row) gets its own rows.
+  std::ofstream(tmp.path / "ero" / "residual_velocities.csv", std::ios::app)
+      << "3,third,3.1e-05,3.6e-05,900,0,0,-900,1,900,1\n";
+  REQUIRE(run("report " + (tmp.path / "fe").string() + "/ " + (tmp.path / "ero").string() +
+              " --out " + (tmp.path / "rep_more").string()) == 0);
+  const std::string more = read(tmp.path / "rep_more" / "report.md");
+  CHECK(more.find("FE (default, fe) |") != std::string::npos);
+  CHECK(more.find("| v3 | - | - | - | - | - | 900.0 | - |") != std::string::npos);
+
   // A folder that is not a run is bad input.
   CHECK(run("report " + tmp.path.string()) == 2);
 }
