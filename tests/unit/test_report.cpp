@@ -182,12 +182,26 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // A run folder named with a trailing slash is the same run; a run of a scene with more
   // plates than the first run's (its residual velocities: a third row) gets its own rows.
   std::ofstream(tmp.path / "ero" / "residual_velocities.csv", std::ios::app)
-      << "3,third,3.1e-05,3.6e-05,900,0,0,-900,1,900,1\n";
+      << "3,third,3.1e-05,3.6e-05,900,0,0,-900,0.5,850,0.8\n";
   REQUIRE(run("report " + (tmp.path / "fe").string() + "/ " + (tmp.path / "ero").string() +
               " --out " + (tmp.path / "rep_more").string()) == 0);
   const std::string more = read(tmp.path / "rep_more" / "report.md");
   CHECK(more.find("FE (default, fe) |") != std::string::npos);
   CHECK(more.find("| v3 | - | - | - | - | - | 900.0 | - |") != std::string::npos);
+  // Its piece (half the mass, at 900 m/s) and all its material through (0.8, at 850 m/s).
+  CHECK(more.find("| v3 | erosion 0.4 (default, ero) | 900.0 | 50.0 % | 850.0 | - | 80.0 % |") !=
+        std::string::npos);
+  CHECK(csvTable(tmp.path / "rep_more" / "through.csv").back() ==
+        std::vector<std::string>{"3", "erosion 0.4 (default, ero)", "900.0", "0.5", "850.0", "0.8"});
+
+  // A folder whose name holds a quote: its CSV fields quoted, the quote doubled.
+  const fs::path quoted = tmp.path / "fe \"x\"";
+  fs::copy(tmp.path / "fe", quoted, fs::copy_options::recursive);
+  REQUIRE(run("report '" + quoted.string() + "' --out " + (tmp.path / "rep_quote").string()) == 0);
+  const auto quoted_runs = csvTable(tmp.path / "rep_quote" / "runs.csv");
+  REQUIRE(quoted_runs.size() == 2);
+  CHECK(quoted_runs[1][0] == "FE (default, fe \"x\")");
+  CHECK(quoted_runs[1][1] == quoted.string());
 
   // A folder that is not a run is bad input.
   CHECK(run("report " + tmp.path.string()) == 2);
@@ -231,6 +245,14 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
   CHECK(first != std::string::npos);
   CHECK(second != std::string::npos);
   CHECK(first < second);
+
+  // The holes table in mm^2 and mm, from a holes.csv with known rows (a 4 mm hole).
+  std::ofstream(dir / "images" / "holes.csv")
+      << "plate,hole,area_m2,diameter_m,centroid_x_m,centroid_y_m,centroid_z_m,on_symmetry\n"
+         "plate_2,1,1.2566e-05,0.004,0,0,-0.01,0\n";
+  REQUIRE(run("report " + dir.string() + " --out " + (tmp.path / "rep_holes").string()) == 0);
+  CHECK(read(tmp.path / "rep_holes" / "report.md").find("| plate_2 | 1 | 12.6 | 4.00 |") !=
+        std::string::npos);
 
   // A table that is not fesph's (a hand-edited number) is an error naming it, not a crash.
   std::ofstream(dir / "images" / "debris.csv")
