@@ -311,13 +311,15 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
     if (!(across > 0)) continue;
     char line[512];
     std::snprintf(line, sizeof line,
-                  "\n**Check failed, %s:** %.0f particles (%.4g kg, %.1f %% of the particles' "
-                  "mass) are across the symmetry plane at the end of the run. A half model's "
+                  "\n**Check failed, %s:** %.0f particle%s (%.4g kg, %.1f %% of the particles' "
+                  "mass) %s across the symmetry plane at the end of the run. A half model's "
                   "particles see their mirror images and stay on their side (docs/sph.md, "
                   "\"Symmetry planes\"); a run of a fesph before that, or a defect: its FE-SPH "
                   "results of the half model are not to be trusted.\n",
-                  r.label.c_str(), across, summaryNumber(r, "particle_mass_across_symmetry_kg"),
-                  100 * summaryNumber(r, "particle_mass_fraction_across_symmetry"));
+                  r.label.c_str(), across, across == 1 ? "" : "s",
+                  summaryNumber(r, "particle_mass_across_symmetry_kg"),
+                  100 * summaryNumber(r, "particle_mass_fraction_across_symmetry"),
+                  across == 1 ? "is" : "are");
     md << line;
   }
 

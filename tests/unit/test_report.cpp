@@ -165,18 +165,18 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   const std::string half = read(tmp.path / "half" / "summary.toml");
   CHECK(half.find("particles_across_symmetry = 0\n") != std::string::npos);
   {
-    std::string edited;  // the run's own zeros replaced by a run with particles across
+    std::string edited;  // the run's own zeros replaced by a run with one particle across
     std::istringstream lines(half);
     for (std::string l; std::getline(lines, l);)
       if (l.find("across_symmetry") == std::string::npos) edited += l + "\n";
-    edited += "particles_across_symmetry = 7\nparticle_mass_across_symmetry_kg = 0.002\n"
+    edited += "particles_across_symmetry = 1\nparticle_mass_across_symmetry_kg = 0.002\n"
               "particle_mass_fraction_across_symmetry = 0.25\n";
     std::ofstream(tmp.path / "half" / "summary.toml") << edited;
   }
   REQUIRE(run("report " + (tmp.path / "half").string() + " --out " +
               (tmp.path / "rep_half").string()) == 0);
   CHECK(read(tmp.path / "rep_half" / "report.md")
-            .find("7 particles (0.002 kg, 25.0 % of the particles' mass) are across the "
+            .find("1 particle (0.002 kg, 25.0 % of the particles' mass) is across the "
                   "symmetry plane") != std::string::npos);
 
   // A run folder named with a trailing slash is the same run; a run of a scene with more
