@@ -132,6 +132,19 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     const std::string csv = slurp(out / "plate_compare.csv");
     CHECK(csv.rfind("source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m\nphoto,1,", 0) == 0);
     CHECK(csv.find("\nsimulation,1,") != std::string::npos);
+    // Each row the figures of its own source: the CSV's areas are the JSON's, digit for digit
+    // (written alike), and the two holes' areas differ.
+    const auto csvArea = [&](const std::string& source) {
+      const std::size_t at = csv.find("\n" + source + ",1,") + source.size() + 4;
+      return csv.substr(at, csv.find(',', at) - at);
+    };
+    const auto jsonArea = [&](const std::string& list) {
+      const std::size_t key = json.find("\"area_m2\": ", json.find("\"" + list + "\"")) + 11;
+      return json.substr(key, json.find(',', key) - key);
+    };
+    CHECK(csvArea("simulation") == jsonArea("simulation_holes"));
+    CHECK(csvArea("photo") == jsonArea("photo_holes"));
+    CHECK(csvArea("photo") != csvArea("simulation"));
 
     // Side by side is two photographs wide; the overlay is mostly green inside the hole.
     vtkNew<vtkPNGReader> reader;
@@ -175,6 +188,15 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     REQUIRE(a.code == 0);
     CHECK(jsonNumber(slurp(dir.path / "auto" / "plate_compare.json"), "iou") >= 0.9);
     CHECK(a.out.find("holes' centroids aligned") != std::string::npos);
+    CHECK(slurp(dir.path / "auto" / "plate_compare.json").find("\"face\": \"front\"") !=
+          std::string::npos);
+    // A photograph of the rear face: the JSON says which face it was compared as.
+    const Result rear = runFesph("compare " + run + " --face rear --mm-per-px 0.08 --image " +
+                                 (dir.path / "shifted.png").string() + " --out " +
+                                 (dir.path / "rear").string());
+    REQUIRE(rear.code == 0);
+    CHECK(slurp(dir.path / "rear" / "plate_compare.json").find("\"face\": \"rear\"") !=
+          std::string::npos);
   }
   {  // bad input gets a clear error and exit code 2
     const std::string photo = " --image " + (dir.path / "match.png").string();

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 // `fesph report`: the Table 1 comparison, run table, velocity plot and plate images of runs,
-// from their folders.
+// from their folders; and, on the same two-plate run, the plates' numbers in the shell.
 #include "tests/support/temp_folder.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -259,4 +260,22 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
       << header << "1e-3,plate_1,1,20,0.001,0.002,fast,0,0,-400,0.2,0,0.1,0.8,0.001,5,1,plate_2,"
                    "2.5e-4,1.25e-3,0.2,0,0,400\n";
   CHECK(run("report " + dir.string() + " --out " + (tmp.path / "rep3").string()) == 1);
+}
+
+TEST_CASE("the shell names a run's plates by number, projectiles left out", "[unit][report]") {
+  // The report's two-plate run: plate 2 is "second".
+  fesph::testing::TempFolder tmp("report_plates");
+  const fs::path scene = tmp.path / "scene.toml";
+  std::ofstream(scene) << kScene;
+  REQUIRE(run("run " + scene.string() + " --materials " + std::string(FESPH_SCENES_DIR) +
+              "/materials.toml --threads 1 --quiet --no-images --out " + (tmp.path / "fe").string()) ==
+          0);
+  std::ofstream(tmp.path / "render.txt") << "render plate 2\n";
+  REQUIRE(run("shell " + (tmp.path / "fe").string() + " < " + (tmp.path / "render.txt").string()) ==
+          0);
+  std::vector<std::string> drawn;
+  for (const auto& entry : fs::recursive_directory_iterator(tmp.path / "fe" / "shell"))
+    if (entry.path().extension() == ".png") drawn.push_back(entry.path().filename().string());
+  std::sort(drawn.begin(), drawn.end());
+  CHECK(drawn == std::vector<std::string>{"second_front.png", "second_rear.png"});
 }
