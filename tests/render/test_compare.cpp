@@ -8,6 +8,7 @@
 #include "core/common/error.hpp"
 #include "core/mesh/structured_box.hpp"
 #include "core/state/model_build.hpp"
+#include "tests/render/png_image.hpp"
 #include "tests/support/models.hpp"
 #include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
@@ -27,6 +28,8 @@
 #include <regex>
 
 using namespace fesph;
+using fesph::testing::Image;
+using fesph::testing::readPng;
 using fesph::testing::slurp;
 using fesph::testing::TempFolder;
 namespace fs = std::filesystem;
@@ -182,6 +185,15 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     const double iou = jsonNumber(slurp(dir.path / "out" / "plate_compare.json"), "iou");
     CHECK(iou < 0.5);
     CHECK(iou == Approx(0.12).margin(0.03));
+    // The overlay tints each side's own part: the photograph's hole alone red, the
+    // simulation's alone blue (each disc less the lens: ~14k pixels at 0.08 mm per pixel).
+    {
+      const Image overlay = readPng((dir.path / "out" / "plate_compare_overlay.png").string());
+      CHECK(overlay.count([](const unsigned char* p) { return p[0] > p[1] + 60 && p[0] > p[2] + 60; }) >
+            10000);
+      CHECK(overlay.count([](const unsigned char* p) { return p[2] > p[0] + 60 && p[2] > p[1] + 30; }) >
+            10000);
+    }
     // Without --center the holes are aligned, and the offset shows in the centroid.
     const Result a = runFesph("compare " + run + " --mm-per-px 0.08 --image " +
                            (dir.path / "shifted.png").string() + " --out " + (dir.path / "auto").string());
