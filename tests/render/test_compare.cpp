@@ -157,6 +157,19 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     reader->GetOutput()->GetDimensions(dims);
     CHECK(dims[0] > 2 * 640);
     CHECK(dims[1] == 560);
+    // Its right half: the simulated hole filled dark (~17.5k pixels of 112 mm^2 at 0.08 mm per
+    // pixel) inside a blue outline two pixels wide (~2 x 470 pixels round it).
+    {
+      const Image side = readPng((out / "plate_compare_side.png").string());
+      const int right = side.width - 640;
+      const std::size_t dark = side.count(
+          [](const unsigned char* p) { return p[0] < 40 && p[1] < 40 && p[2] < 40; }, right);
+      const std::size_t blue = side.count(
+          [](const unsigned char* p) { return p[2] > 200 && p[0] < 80 && p[1] < 160; }, right);
+      CHECK(dark > 12000);
+      CHECK(blue > 500);
+      CHECK(blue < 3000);
+    }
     vtkNew<vtkPNGReader> overlay;
     overlay->SetFileName((out / "plate_compare_overlay.png").c_str());
     overlay->Update();
