@@ -828,10 +828,11 @@ void Workbench::restart(const std::vector<std::string>& a) {
   }
   auto s = std::make_unique<RunSession>();
   s->restart(path, changes, out, &std::cout);
-  // The scene is the one saved in the checkpoint, with its --set changes.
+  // The scene is the one saved in the checkpoint, with its --set changes; its text is the
+  // scene as run, changes and preset applied (as a run folder's, see load).
   const Scene& sc = s->scene();
   overrides_ = sc.overrides;
-  scene_text_ = sceneWithChanges(sc.text, sc.path, overrides_);
+  scene_text_ = sceneWithChanges(sc.text, sc.path, {});
   scene_path_ = sc.path;
   run_dir_.clear();
   session_ = std::move(s);
