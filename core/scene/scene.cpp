@@ -537,7 +537,8 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   for (const std::string& o : overrides) applyOverride(root, o);
   // The resolution preset first, then the --set overrides again so that they win over it.
   sc.resolution = applyResolution(root, file);
-  if (sc.resolution != "default" && !overrides.empty()) {
+  // Any preset applied, "default" too when the scene gives it one.
+  if (root["resolutions"][sc.resolution].is_table() && !overrides.empty()) {
     for (const std::string& o : overrides) applyOverride(root, o);
     presetAsRun(root, sc.resolution, file);
   }

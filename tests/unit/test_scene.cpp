@@ -291,6 +291,11 @@ TEST_CASE("resolution presets apply their keys, and --set wins over them", "[uni
   const Scene mixed =
       loadScene(path, {"resolution=\"quick\"", "simulation.end_time=2e-6"}, library());
   CHECK(mixed.controls.end_time == 2e-6);  // the command line wins over the preset
+  // A scene may give "default" a preset of its own: the command line wins over it too.
+  const std::string with_default =
+      writeScene("default_preset.toml", text + "[resolutions.default]\n\"simulation.end_time\" = 7e-7\n");
+  CHECK(loadScene(with_default, {}, library()).controls.end_time == 7e-7);
+  CHECK(loadScene(with_default, {"simulation.end_time=2e-6"}, library()).controls.end_time == 2e-6);
 
   // An unknown preset names the line of `resolution` and the presets there are.
   const std::string bad = writeScene("bad_resolution.toml", "resolution = \"coarse\"\n" + text);
