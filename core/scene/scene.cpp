@@ -97,11 +97,39 @@ void applyOverride(toml::table& root, const std::string& assignment) {
   setAt(root, assignment.substr(0, eq), *value_doc.get("v"), src, 0, 0);
 }
 
+// A name that goes into file names, column heads and labels as it is: no quoting needed.
+bool plainName(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+// `text` for a one-line comment: a line break in a path or a --set (a multi-line string)
+// would end the comment and leave the rest of it as TOML. Control characters become \xNN.
+std::string commentText(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\x%02x", static_cast<unsigned char>(c));
+      out += code;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 // `resolution = "NAME"` picks the table [resolutions.NAME] of the scene: dotted key paths and
 // the values they get, applied like --set (so a scene carries its own quick, default and fine
 // meshes). "default" needs no table.
 std::string applyResolution(toml::table& root, const std::string& file) {
   const std::string name = string(root, "resolution", file, "default");
+  // The name labels the run in summary.toml and the report's tables, written as it is.
+  if (!plainName(name))
+    fail(file, where(root, "resolution"),
+         "'resolution' must be letters, digits, '_' and '-' (it labels the run), got '" + name +
+             "'");
   const toml::table* presets = table(root, "resolutions", file);
   const toml::table* preset = presets ? table(*presets, name, file) : nullptr;
   if (!preset) {
@@ -376,10 +404,7 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
   b.line = static_cast<int>(t.source().begin.line);
   b.name = string(t, "name", file);
   // A body's name names its image files and its history columns: no path, no separator.
-  const bool plain = !b.name.empty() && std::all_of(b.name.begin(), b.name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-  });
-  if (!plain)
+  if (!plainName(b.name))
     fail(file, where(t, "name"),
          "'name' must be letters, digits, '_' and '-' (it names image files and history "
          "columns), got '" + b.name + "'");
@@ -544,8 +569,9 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   }
   // The scene as it runs: overrides and preset applied, every number to round-trip precision.
   std::ostringstream effective;
-  effective << "# fesph: the scene " << path << " as run (resolution " << sc.resolution;
-  for (const std::string& o : overrides) effective << "; --set " << o;
+  effective << "# fesph: the scene " << commentText(path) << " as run (resolution "
+            << sc.resolution;
+  for (const std::string& o : overrides) effective << "; --set " << commentText(o);
   effective << ")\n" << root << "\n";
   sc.text = effective.str();
   try {

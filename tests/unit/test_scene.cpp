@@ -308,6 +308,17 @@ TEST_CASE("resolution presets apply their keys, and --set wins over them", "[uni
     CHECK(std::string(e.what()).find("quick") != std::string::npos);
     CHECK(std::string(e.what()).find("fine") != std::string::npos);
   }
+  // A preset's name labels the run (summary.toml, the report's tables): plain characters only,
+  // where a quote in it made summary.toml a file no TOML reader takes.
+  const std::string quoted_name = writeScene(
+      "quoted_resolution.toml", "resolution = 'a\"b'\n" + text + "[resolutions.'a\"b']\n");
+  try {
+    loadScene(quoted_name, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.line() == 1);
+    CHECK(std::string(e.what()).find("letters, digits, '_' and '-'") != std::string::npos);
+  }
   // A preset key that leads nowhere names the preset's line.
   const std::string wrong = writeScene(
       "bad_preset.toml", std::string(kGoodScene) + "[resolutions.quick]\n\"bodies.7.x\" = 1\n");
@@ -338,6 +349,13 @@ TEST_CASE("the scene as run reloads to the same scene", "[unit][scene]") {
   const auto body = [](const std::string& t) { return t.substr(t.find('\n')); };
   CHECK(body(again.text) == body(sc.text));
   CHECK(sc.source.find("velocity = [0, 0, -100]") != std::string::npos);
+
+  // A --set value with a line break in it (a multi-line string) stays within the first line's
+  // comment: the scene as run parses, and its title is the one given.
+  const Scene titled = loadScene(path, {"title=\"\"\"two\nlines\"\"\""}, library());
+  CHECK(titled.title == "two\nlines");
+  const std::string titled_copy = writeScene("as_run_titled.toml", titled.text);
+  CHECK(loadScene(titled_copy, {}, library()).title == "two\nlines");
 }
 
 namespace {
