@@ -9,6 +9,7 @@
 #include "render/section_view.hpp"
 #include "render/velocity_plot.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,26 @@
 namespace fesph {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// A time as typed, to every digit it needs: 1e-06 and 1.0000001e-06 are two folders.
+std::string shortest(double t) {
+  char buf[32];
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, t);
+  return std::string(buf, r.ptr);
+}
+
+// WxH, two whole numbers and nothing else.
+bool parseSize(const std::string& size, int& width, int& height) {
+  const char* end = size.data() + size.size();
+  const std::from_chars_result w = std::from_chars(size.data(), end, width);
+  if (w.ec != std::errc() || w.ptr == end || *w.ptr != 'x') return false;
+  const std::from_chars_result h = std::from_chars(w.ptr + 1, end, height);
+  return h.ec == std::errc() && h.ptr == end;
+}
+
+}  // namespace
 
 void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
                int height, const std::string& out_dir) {
@@ -28,8 +49,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   // A time between outputs or past the run's end (one typed in us, not s) draws the nearest
   // output: say which.
   if (time >= 0 && !plates.empty() && std::abs(plates.front().time - time) > 1e-9 * time)
-    std::printf("  no output at t = %g s: drawn at the nearest, t = %g s\n", time,
-                plates.front().time);
+    std::printf("  no output at t = %s s: drawn at the nearest, t = %s s\n",
+                shortest(time).c_str(), shortest(plates.front().time).c_str());
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);
@@ -50,8 +71,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
 
 int renderCommand(const RenderOptions& opt) {
   int width = 0, height = 0;
-  if (std::sscanf(opt.size.c_str(), "%dx%d", &width, &height) != 2 || width < 64 ||
-      height < 64 || width > 8192 || height > 8192) {
+  if (!parseSize(opt.size, width, height) || width < 64 || height < 64 || width > 8192 ||
+      height > 8192) {
     std::fprintf(stderr, "error: --size must be WxH with 64..8192 pixels each, got '%s'\n",
                  opt.size.c_str());
     return 2;
@@ -65,12 +86,12 @@ int renderCommand(const RenderOptions& opt) {
     if (opt.times.empty()) {
       renderRun(opt.run_dir, -1.0, opt.field, width, height, out);
     } else {
-      for (double t : opt.times) {
-        char sub[64];
-        std::snprintf(sub, sizeof sub, "/t_%.6g", t);
-        renderRun(opt.run_dir, t, opt.field, width, height, out + sub);
-      }
+      for (double t : opt.times)
+        renderRun(opt.run_dir, t, opt.field, width, height, out + "/t_" + shortest(t));
     }
+  } catch (const UnknownField& e) {
+    std::fprintf(stderr, "error: --field: %s\n", e.what());
+    return 2;
   } catch (const RunError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

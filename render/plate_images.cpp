@@ -500,8 +500,8 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     for (int a = 0; a < grid->GetCellData()->GetNumberOfArrays(); ++a)
       if (grid->GetCellData()->GetArray(a)->GetNumberOfComponents() == 1)
         names += std::string(names.empty() ? "" : ", ") + grid->GetCellData()->GetArrayName(a);
-    throw RunError("no scalar cell field \"" + options.field + "\" in the element series; have: " +
-                   names);
+    throw UnknownField("no scalar cell field \"" + options.field +
+                       "\" in the element series; have: " + names);
   }
 
   // Which bodies to draw: the caller's, or every body with cells that is not a projectile.

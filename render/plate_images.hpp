@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/analysis/hole_metrics.hpp"
+#include "core/common/error.hpp"
 
 #include <vtkSmartPointer.h>
 #include <vtkType.h>
@@ -55,11 +56,18 @@ struct PlateImages {
   PlateHoles holes;           ///< through-holes of the plate at that time (full plate)
 };
 
+/// A field the element series does not hold: the caller's bad input (`fesph render --field`
+/// exits with 2 for it), not a failed run.
+class UnknownField : public RunError {
+ public:
+  using RunError::RunError;
+};
+
 /// Front and rear orthographic views along the plate normal of every plate at the series step
 /// nearest to `time` (time < 0: the last step), written to OUT_DIR/<plate>_front.png and
 /// OUT_DIR/<plate>_rear.png. Plates: `plates` (body indices) or, when empty, every body that is
 /// not a projectile. Half models are drawn mirrored (the full plate). All plates share one
-/// camera extent. Throws RunError (no series, unknown field, unwritable file).
+/// camera extent. Throws UnknownField, or RunError (no series, unwritable file).
 std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double time,
                                            const ImageOptions& options,
                                            const std::string& out_dir,

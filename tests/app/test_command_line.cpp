@@ -107,6 +107,38 @@ TEST_CASE("fesph run and render: a scene named from its own folder, and times gi
   CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
 }
 
+TEST_CASE("fesph render: a field or size given wrong, and times too close for six digits",
+          "[app]") {
+  const TempFolder dir("render_command_line");
+  const Result run = runTestScene("--end-time 1e-6", dir.path);
+  INFO(run.out);
+  REQUIRE(run.code == 0);
+
+  // Bad input, exit code 2, as for the run's options: the field exited with 1 (a failed run).
+  const Result field = command("render run --field nosuch --size 64x64", dir.path);
+  INFO(field.out);
+  CHECK(field.code == 2);
+  CHECK(has(field.out, "error: --field: no scalar cell field \"nosuch\""));
+  CHECK(has(field.out, "plastic_strain"));
+  // Anything after WxH was ignored: 100x100x drew 100 x 100 images.
+  for (const char* size : {"100x100x", "100x100 ", "64x64x64", "x64", "100X100"}) {
+    const Result r = command(std::string("render run --size '") + size + "'", dir.path);
+    INFO(r.out);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, std::string("--size must be WxH with 64..8192 pixels each, got '") + size));
+  }
+
+  // Two times that print alike to six digits went into one folder (the second drawing over
+  // the first), and the message said "no output at t = 1e-06 s: drawn at ... t = 1e-06 s".
+  const Result close = command("render run --time 1e-6 --time 1.0000001e-6 --size 64x64", dir.path);
+  INFO(close.out);
+  CHECK(close.code == 0);
+  CHECK(fs::exists(dir.path / "run" / "images" / "t_1e-06" / "plate_front.png"));
+  CHECK(fs::exists(dir.path / "run" / "images" / "t_1.0000001e-06" / "plate_front.png"));
+  CHECK(occurrences(close.out, "no output at") == 1);
+  CHECK(has(close.out, "no output at t = 1.0000001e-06 s: drawn at the nearest, t = 1e-06 s"));
+}
+
 TEST_CASE("fesph run: an output folder that cannot be made is said before the meshing", "[app]") {
   const TempFolder dir("output_folder");
   fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml", dir.path / "scene.toml");
