@@ -70,6 +70,7 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
   }
   crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
 
+  clearEarlierRun(log);
   openWriters(false, RunProgress{});
   next_output_ = scene_.output.interval;
   next_checkpoint_ = scene_.output.checkpoint_interval;
@@ -120,13 +121,53 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   std::error_code ec;
   const bool own =
       out_folder.empty() || fs::equivalent(out_folder, parent.empty() ? "." : parent, ec);
-  if (own) refuseToCutLaterCheckpoints(checkpoint);
+  if (own) {
+    refuseToCutLaterCheckpoints(checkpoint);
+    refuseAnotherRunsHistory(checkpoint, saved);
+  }
   openWriters(own, saved);
   started_ = true;
   last_output_time_ = series_->lastTime();  // the series cut back to the checkpoint, or fresh
   output_index_ = saved.output_index;
   next_output_ = saved.next_output;
   next_checkpoint_ = saved.next_checkpoint;
+}
+
+// A run into a folder replaces the run there whole: the series writer removes its steps, and
+// here go its checkpoints (which would go on with this run's records cut back under them, and
+// outnumber its own when the oldest are pruned) and the images fesph drew of it (which would
+// show that run as this one's). Only files of fesph's own naming: anything else stays.
+void RunSession::clearEarlierRun(std::ostream* log) const {
+  std::error_code ec;
+  std::size_t checkpoints = 0, images = 0;
+  for (const std::string& path : listCheckpoints(folder())) checkpoints += fs::remove(path, ec);
+  const auto drawn = [](const std::string& name) {
+    const auto ends = [&](const std::string& tail) {
+      return name.size() > tail.size() &&
+             name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    return ends("_front.png") || ends("_rear.png") || name == "section.png" ||
+           name == "velocity.png" || name == "holes.csv" || name == "holes.json" ||
+           name == "debris.csv";
+  };
+  const auto clear = [&](const fs::path& dir) {  // drawn files, then the folder if empty
+    for (const fs::directory_entry& f : fs::directory_iterator(dir, ec))
+      if (f.is_regular_file(ec) && drawn(f.path().filename().string()))
+        images += fs::remove(f.path(), ec);
+    if (fs::is_empty(dir, ec)) fs::remove(dir, ec);
+  };
+  const fs::path image_dir = fs::path(folder()) / "images";
+  if (fs::is_directory(image_dir, ec)) {
+    std::vector<fs::path> times;  // `fesph render --time` folders, t_TIME
+    for (const fs::directory_entry& f : fs::directory_iterator(image_dir, ec))
+      if (f.is_directory(ec) && f.path().filename().string().rfind("t_", 0) == 0)
+        times.push_back(f.path());
+    for (const fs::path& t : times) clear(t);
+    clear(image_dir);
+  }
+  if (log && checkpoints + images > 0)
+    *log << folder() << ": the run there before: removed its " << checkpoints
+         << " checkpoints and " << images << " files of images/" << std::endl;
 }
 
 // Going back in the checkpoint's own folder cuts its series and histories back to the
@@ -147,10 +188,6 @@ void RunSession::refuseToCutLaterCheckpoints(const std::string& checkpoint) cons
 void RunSession::openWriters(bool resume, const RunProgress& saved) {
   const std::string& dir = folder();
   makeFolder(dir);
-  {
-    std::ofstream(dir + "/scene.toml") << scene_.text;
-    std::ofstream(dir + "/scene_source.toml") << scene_.source;
-  }
   try {
     SeriesOptions options;
     options.fields = scene_.output.fields;
@@ -167,6 +204,9 @@ void RunSession::openWriters(bool resume, const RunProgress& saved) {
                                        : std::make_unique<HistoryCsv>(csv, model_);
   history_h5_ = resume && fs::exists(h5) ? std::make_unique<HistoryH5>(h5, model_, rows)
                                          : std::make_unique<HistoryH5>(h5, model_, scene_.text);
+  // The scene last: a restart refused by the writers above leaves the folder's run as it was.
+  std::ofstream(dir + "/scene.toml") << scene_.text;
+  std::ofstream(dir + "/scene_source.toml") << scene_.source;
 }
 
 RunProgress RunSession::progress() const {
@@ -180,9 +220,28 @@ RunProgress RunSession::progress() const {
   p.next_output = next_output_;
   p.next_checkpoint = next_checkpoint_;
   p.history_rows = static_cast<long>(history_h5_->rows());
+  p.history_last_row = history_->lastRow();
   p.crossings = crossings_->plates();
   p.crossings_projectile = crossings_->projectile();
   return p;
+}
+
+// Another run into the folder since the checkpoint replaced its series and histories (and
+// removed its checkpoints, but one may be put back): going on there would cut that run's
+// records back to the checkpoint's counts and continue them with this run's state. The
+// history's row at the checkpoint tells (a run that is the same to every digit writes the
+// same row, and may go on).
+void RunSession::refuseAnotherRunsHistory(const std::string& checkpoint,
+                                          const RunProgress& saved) const {
+  if (saved.history_rows <= 0 || saved.history_last_row.empty()) return;  // older checkpoint
+  const std::string csv = folder() + "/history.csv";
+  if (HistoryCsv::row(csv, static_cast<std::size_t>(saved.history_rows)) ==
+      saved.history_last_row)
+    return;
+  throw RunError(folder() + " holds another run than the one " + checkpoint +
+                 " was taken in (row " + std::to_string(saved.history_rows) + " of " + csv +
+                 " is not the one the checkpoint kept); going on there would join the two. "
+                 "Restart into another folder (--out DIR)");
 }
 
 void RunSession::checkpoint(const std::string& path) const {

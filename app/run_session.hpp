@@ -98,6 +98,8 @@ class RunSession {
   void writeOutput();
   void recordHistory();
   void refuseToCutLaterCheckpoints(const std::string& checkpoint) const;
+  void refuseAnotherRunsHistory(const std::string& checkpoint, const RunProgress& saved) const;
+  void clearEarlierRun(std::ostream* log) const;
   void writeFailedState();
   void openWriters(bool resume, const RunProgress& progress);
   RunProgress progress() const;

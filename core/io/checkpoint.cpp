@@ -40,7 +40,9 @@ constexpr const char* kFormat = "fesph checkpoint";
 //    them and the reader skips them.
 // 11: the SPH snapshots' volume rate (SphSnapshot::volume_rate), from which the next step
 //    predicts its volumes; older files read it as 0 (one step weighted by V^{n-1}).
-constexpr std::int64_t kFormatVersion = 11;
+// 12: the history's last row (RunProgress::history_last_row); older files leave it empty and
+//    their restart does not check the folder's history against it.
+constexpr std::int64_t kFormatVersion = 12;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -500,6 +502,7 @@ template <class Ar> void transfer(Ar& ar, RunProgress& r) {
   ar.value("next_output", r.next_output);
   ar.value("next_checkpoint", r.next_checkpoint);
   ar.value("history_rows", r.history_rows);
+  if (ar.version >= 12) ar.value("history_last_row", r.history_last_row);
   ar.enter("crossings");
   ar.value("projectile", r.crossings_projectile);
   r.crossings.resize(ar.count("count", r.crossings.size()));

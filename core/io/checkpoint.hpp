@@ -24,6 +24,8 @@ struct RunProgress {
   double next_output = 0;        ///< s
   double next_checkpoint = 0;    ///< s
   long history_rows = 0;         ///< rows in history.csv and run.h5
+  /// history.csv's last row at the checkpoint ("" when not known: format 11 and older)
+  std::string history_last_row;
   std::vector<PlateCrossing> crossings;  ///< residual velocity tracking (plate_crossings.hpp)
   int crossings_projectile = -1;
 };

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace fesph {
 
@@ -37,8 +38,9 @@ HistoryCsv::HistoryCsv(const std::string& path, std::size_t rows) : path_(path) 
   if (lines < rows + 1)
     throw RunError(path + ": " + std::to_string(lines ? lines - 1 : 0) + " rows, the checkpoint "
                    "expects " + std::to_string(rows));
-  if (rows > 0) {  // the step column of the last row kept: time,step,...
+  if (rows > 0) {  // the last row kept: time,step,...
     const std::size_t row = kept.rfind('\n', kept.size() - 2) + 1;
+    last_row_ = kept.substr(row, kept.size() - 1 - row);
     last_step_ = std::strtol(kept.c_str() + kept.find(',', row) + 1, nullptr, 10);
   }
   replaceFile(path, kept);
@@ -46,30 +48,41 @@ HistoryCsv::HistoryCsv(const std::string& path, std::size_t rows) : path_(path) 
   if (!out_) throw RunError("cannot write history file " + path);
 }
 
+std::string HistoryCsv::row(const std::string& path, std::size_t n) {
+  std::ifstream in(path);
+  std::string line;
+  for (std::size_t k = 0; k <= n; ++k)  // the header, then n rows
+    if (!std::getline(in, line)) return "";
+  return line;
+}
+
 void HistoryCsv::record(const Model& model) {
   const EnergyBudget& en = model.energy;
   char buf[64];
+  std::string& row = last_row_;
   auto put = [&](double x) {
     std::snprintf(buf, sizeof buf, ",%.10g", x);
-    out_ << buf;
+    row += buf;
   };
-  std::snprintf(buf, sizeof buf, "%.10g", en.time);
-  out_ << buf << ',' << model.step;
+  auto count = [&](long long n) { row += ',' + std::to_string(n); };
+  std::snprintf(buf, sizeof buf, "%.10g,%ld", en.time, model.step);
+  row = buf;
   last_step_ = model.step;
   for (double x : {model.dt, en.kinetic, en.internal, en.plastic_work, en.bulk_viscosity,
                    en.contact, en.eroded, en.conversion, en.total(), en.balanceError(),
                    en.momentum.x(), en.momentum.y(), en.momentum.z()})
     put(x);
-  out_ << ',' << model.conversion.eroded;
+  count(model.conversion.eroded);
   put(model.conversion.eroded_mass);
-  out_ << ',' << model.conversion.converted << ',' << model.particles.size();
+  count(model.conversion.converted);
+  count(static_cast<long long>(model.particles.size()));
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     const Vec3 v = bodyMeanVelocity(model, static_cast<int>(b));
     put(v.x());
     put(v.y());
     put(v.z());
   }
-  out_ << '\n';
+  out_ << row << '\n';
   out_.flush();
 }
 

@@ -22,11 +22,18 @@ class HistoryCsv {
   const std::string& path() const { return path_; }
   /// The step of the last row (a continued file's included); -1 before the first.
   long lastStep() const { return last_step_; }
+  /// The last row's text, without its line break ("" before the first). A checkpoint keeps
+  /// it, so that a restart can tell its own run's history from another run's in the folder.
+  const std::string& lastRow() const { return last_row_; }
+  /// Row `n` (1: the first after the header) of the history file at `path`, without its line
+  /// break; "" when the file cannot be read or has fewer rows.
+  static std::string row(const std::string& path, std::size_t n);
 
  private:
   std::string path_;
   std::ofstream out_;
   long last_step_ = -1;
+  std::string last_row_;
 };
 
 }  // namespace fesph

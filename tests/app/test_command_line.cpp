@@ -210,6 +210,64 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
   CHECK(has(pvd, "timestep=\"2e-06\""));
 }
 
+TEST_CASE("a run into another run's folder replaces it whole, and that run's checkpoints cannot "
+          "continue there",
+          "[app]") {
+  const TempFolder dir("run_over_run");
+  const Result first = runTestScene("--end-time 3e-6 --set output.checkpoint_interval=1e-6 "
+                                    "--set output.checkpoints_kept=5",
+                                    dir.path);
+  INFO(first.out);
+  REQUIRE(first.code == 0);
+  const auto checkpoints = [&] {
+    std::vector<fs::path> found;
+    for (const auto& f : fs::directory_iterator(dir.path / "run"))
+      if (f.path().filename().string().rfind("checkpoint_", 0) == 0) found.push_back(f.path());
+    std::sort(found.begin(), found.end());
+    return found;
+  };
+  REQUIRE(checkpoints().size() == 3);
+  const fs::path earlier = dir.path / "earlier.h5";  // the first run's, at 2 us
+  fs::copy_file(checkpoints()[1], earlier);
+  const Result drawn = command("render run --size 64x64", dir.path);
+  INFO(drawn.out);
+  REQUIRE(drawn.code == 0);
+  REQUIRE(fs::exists(dir.path / "run" / "images" / "plate_front.png"));
+  std::ofstream(dir.path / "run" / "images" / "notes.txt") << "the user's own file\n";
+
+  // Another run into the same folder, slower and without checkpoints or images. The first
+  // run's checkpoints stayed: its later ones then went on with the second run's history cut
+  // back under them, and its images showed the other run.
+  const Result second =
+      runTestScene("--end-time 3e-6 --set 'bodies.0.velocity=[0,0,-300]'", dir.path);
+  INFO(second.out);
+  REQUIRE(second.code == 0);
+  CHECK(checkpoints().empty());
+  CHECK(!fs::exists(dir.path / "run" / "images" / "plate_front.png"));
+  CHECK(!fs::exists(dir.path / "run" / "images" / "holes.csv"));
+  CHECK(fs::exists(dir.path / "run" / "images" / "notes.txt"));  // not fesph's: kept
+  CHECK(has(second.out, "the run there before: removed its 3 checkpoints and 7 files of images/"));
+
+  // A checkpoint of the first run put back into the folder is refused there, and the failed
+  // restart leaves the second run's files as they were (it rewrote scene.toml first).
+  fs::copy_file(earlier, dir.path / "run" / earlier.filename());
+  const std::string scene_before = slurp(dir.path / "run" / "scene.toml");
+  const std::string history_before = slurp(dir.path / "run" / "history.csv");
+  const std::string pvd_before = slurp(dir.path / "run" / "elements.pvd");
+  const Result back = command("run --restart run/earlier.h5 --quiet --no-images", dir.path);
+  INFO(back.out);
+  CHECK(back.code == 2);
+  CHECK(has(back.out, "holds another run than the one run/earlier.h5 was taken in"));
+  CHECK(slurp(dir.path / "run" / "scene.toml") == scene_before);
+  CHECK(slurp(dir.path / "run" / "history.csv") == history_before);
+  CHECK(slurp(dir.path / "run" / "elements.pvd") == pvd_before);
+  // Into a folder of its own it goes on.
+  const Result elsewhere =
+      command("run --restart run/earlier.h5 --out elsewhere --quiet --no-images", dir.path);
+  INFO(elsewhere.out);
+  CHECK(elsewhere.code == 0);
+}
+
 TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app]") {
   // A time step floor the run falls under at its 17th step: the error names the element whose
   // step collapsed, and the state is where to look at it.
