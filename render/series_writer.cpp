@@ -5,6 +5,7 @@
 
 #include "core/common/error.hpp"
 #include "core/io/replace_file.hpp"
+#include "core/scene/scene.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -199,19 +200,10 @@ void PvdCollection::save() const {
 
 namespace {
 
-const std::vector<std::string> kElementFields = {
-    "stress",      "pressure",   "von_mises",  "plastic_strain", "plastic_strain_rate",
-    "temperature", "damage",     "density",    "body",           "element_id",
-    "velocity",    "displacement", "node_id"};
-
 std::vector<std::string> checkedFields(std::vector<std::string> fields) {
-  for (const std::string& f : fields) {
-    if (std::find(kElementFields.begin(), kElementFields.end(), f) != kElementFields.end())
-      continue;
-    std::string allowed;
-    for (const std::string& a : kElementFields) allowed += (allowed.empty() ? "" : ", ") + a;
-    throw std::invalid_argument("unknown output field \"" + f + "\"; allowed: " + allowed);
-  }
+  for (const std::string& f : fields)
+    if (const std::string error = outputFieldError(f); !error.empty())
+      throw std::invalid_argument(error);
   return fields;
 }
 
@@ -222,7 +214,7 @@ fs::path createdFolder(fs::path folder) {
 
 }  // namespace
 
-const std::vector<std::string>& SeriesWriter::elementFields() { return kElementFields; }
+const std::vector<std::string>& SeriesWriter::elementFields() { return outputFieldNames(); }
 
 SeriesWriter::SeriesWriter(fs::path folder, SeriesOptions options)
     : folder_(createdFolder(std::move(folder))),

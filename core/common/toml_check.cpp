@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <fstream>
 #include <sstream>
@@ -65,6 +66,13 @@ const toml::node* find(const toml::table& t, std::string_view key) { return t.ge
 [[noreturn]] void missing(const toml::table& t, std::string_view key, const std::string& file,
                           const std::string& expected) {
   fail(file, t.source(), "missing key '" + std::string(key) + "': expected " + expected);
+}
+
+// A number for a message as a reader would write it: std::to_string prints 1e-9 as 0.000000.
+std::string shortNumber(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", x);
+  return buf;
 }
 
 }  // namespace
@@ -134,7 +142,7 @@ double positive(const toml::table& t, std::string_view key, const std::string& f
   if (x < 0 || (!allow_zero && x == 0))
     fail(file, where(t, key),
          "'" + std::string(key) + "' must be " + (allow_zero ? ">= 0" : "> 0") + ", got " +
-             std::to_string(x));
+             shortNumber(x));
   return x;
 }
 

@@ -290,6 +290,9 @@ void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
   o.folder = string(*t, "folder", file, o.folder);
   o.interval = positive(*t, "interval", file, o.interval);
   o.fields = strings(*t, "fields", file);
+  for (std::size_t k = 0; k < o.fields.size(); ++k)
+    if (const std::string error = outputFieldError(o.fields[k]); !error.empty())
+      fail(file, (*(*t)["fields"].as_array())[k].source(), error);
   o.history_every = integer(*t, "history_every", file, o.history_every);
   if (o.history_every < 1) fail(file, where(*t, "history_every"), "'history_every' must be >= 1");
   o.checkpoint_interval =
@@ -589,6 +592,22 @@ Scene loadSceneText(const std::string& text, const std::string& path,
     throw InputError(file, 0, 0, e.message() + " (given by" + from + ")");
   }
   return sc;
+}
+
+const std::vector<std::string>& outputFieldNames() {
+  static const std::vector<std::string> names = {
+      "stress", "pressure", "von_mises", "plastic_strain", "plastic_strain_rate",
+      "temperature", "damage", "density", "body", "element_id", "velocity", "displacement",
+      "node_id"};
+  return names;
+}
+
+std::string outputFieldError(const std::string& name) {
+  const std::vector<std::string>& known = outputFieldNames();
+  if (std::find(known.begin(), known.end(), name) != known.end()) return "";
+  std::string allowed;
+  for (const std::string& a : known) allowed += (allowed.empty() ? "" : ", ") + a;
+  return "unknown output field \"" + name + "\"; allowed: " + allowed;
 }
 
 }  // namespace fesph

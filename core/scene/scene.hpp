@@ -37,6 +37,11 @@ struct FixedBoundary {
   Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  ///< global coordinates, for "box"
 };
 
+/// The names [output].fields takes: the element series' cell and point arrays.
+const std::vector<std::string>& outputFieldNames();
+/// "" for a name of outputFieldNames(), else what is wrong with it and what is allowed.
+std::string outputFieldError(const std::string& name);
+
 struct OutputSpec {
   std::string folder;                ///< run folder
   double interval = 0;               ///< s between field outputs

@@ -140,6 +140,26 @@ TEST_CASE("impossible values are rejected with their line", "[unit][scene]") {
       REQUIRE(e.line() == c.line);
     }
   }
+  // An output field the series has no array for: said at its line before the meshing, where
+  // the series writer said it after the meshing with the file alone.
+  const std::string fields = writeScene(
+      "unknown_field.toml", std::string(kGoodScene) + "[output]\nfields = [\"stress\",\n  \"strain\"]\n");
+  try {
+    loadScene(fields, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.line() == 15);
+    CHECK(e.message().find("unknown output field \"strain\"; allowed: stress, pressure") == 0);
+  }
+  // The value as given, where std::to_string printed a small one as "-0.000000".
+  const std::string small =
+      writeScene("impossible_small.toml", replace(kGoodScene, "end_time = 1e-6", "end_time = -2.5e-9"));
+  try {
+    loadScene(small, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.message() == "'end_time' must be > 0, got -2.5e-09");
+  }
 }
 
 TEST_CASE("two symmetry planes on one axis are an error at the second", "[unit][scene]") {
