@@ -190,6 +190,15 @@ TEST_CASE("fesph run --restart refuses changes a checkpoint cannot take", "[app]
     CHECK(r.code == 2);
     CHECK(has(r.out, "cannot change"));
   }
+  // An end time before the checkpoint's: it said "Running to t = 1e-06 s", ran nothing and
+  // wrote a complete summary at 2 us.
+  const std::string summary_before = slurp(dir.path / "run" / "summary.toml");
+  const Result early =
+      command("run --restart " + saved.string() + " --end-time 1e-6 --quiet --no-images", dir.path);
+  INFO(early.out);
+  CHECK(early.code == 2);
+  CHECK(has(early.out, "the end time 1e-06 s lies before the checkpoint's t = 2e-06 s"));
+  CHECK(slurp(dir.path / "run" / "summary.toml") == summary_before);
   // The controls can, and the run's own overrides given again change nothing.
   const Result on = command("run --restart " + saved.string() +
                                 " --end-time 3e-6 --quiet --no-images --set simulation.courant=0.4" +
