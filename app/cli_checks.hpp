@@ -30,6 +30,24 @@ inline CLI::Validator finiteNumber(bool zero_allowed) {
       zero_allowed ? "NUMBER >= 0" : "NUMBER > 0");
 }
 
+/// A number strictly between 0 and 1 (a brightness threshold).
+inline CLI::Validator openFraction() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double value = 0;
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || !(value > 0 && value < 1))
+          return "expected a number in (0, 1), got " + text;
+        return "";
+      },
+      "NUMBER in (0, 1)");
+}
+
 /// A time in s, a scale: a finite number > 0.
 inline CLI::Validator positiveNumber() { return finiteNumber(false); }
 

@@ -113,7 +113,7 @@ void addCompareOptions(CLI::App& cmd, CompareCommandOptions& o) {
                  "(default: align the holes' centroids)");
   cmd.add_option("--threshold", o.threshold,
                  "Brightness in (0, 1) between holes and plate (default: Otsu's)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(openFraction());
   cmd.add_option("--holes", o.holes, "Holes are dark (default) or bright")
       ->check(CLI::IsMember({"dark", "bright"}));
   cmd.add_option("--face", o.face, "Face photographed: front (default) or rear")

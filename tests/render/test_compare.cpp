@@ -226,6 +226,15 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     r = runFesph("compare " + run + " --mm-per-px 0.08 --center 12" + photo);
     CHECK(r.code == 2);
     CHECK(r.out.find("--center must be X,Y") != std::string::npos);
+    // A threshold splits the brightness (0, 1): at 0 or 1 every pixel is plate, or hole. CLI11's
+    // range took both ends and said "Value 2 not in range 0.000000 to 1.000000".
+    for (const char* t : {"0", "1", "2", "-0.5", "abc", "nan"}) {
+      r = runFesph("compare " + run + " --mm-per-px 0.08 --threshold " + t + photo);
+      INFO(r.out);
+      CHECK(r.code == 2);
+      CHECK(r.out.find(std::string("--threshold: expected a number in (0, 1), got ") + t) !=
+            std::string::npos);
+    }
   }
 }
 
