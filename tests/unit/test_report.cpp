@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -151,6 +152,17 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   CHECK(runs[2][1] == (tmp.path / "ero").string());
   CHECK(runs[2].back() == "complete");
   CHECK(md.find("| wall time | threads |") != std::string::npos);
+  {  // a run of under a second: its wall time is not "0 s"
+    const std::size_t row = md.find("| FE (default, fe) | ", md.find("| wall time | threads |"));
+    REQUIRE(row != std::string::npos);
+    std::vector<std::string> cells;
+    std::istringstream line(md.substr(row, md.find('\n', row) - row));
+    for (std::string c; std::getline(line, c, '|');) cells.push_back(c);
+    REQUIRE(cells.size() >= 7);
+    INFO(cells[6]);
+    CHECK(std::stod(cells[6]) > 0);
+    CHECK(std::abs(std::stod(cells[6]) - std::stod(runs[1][9])) <= 0.005 + 1e-12);  // 2 decimals
+  }
   CHECK(fs::file_size(tmp.path / "rep" / "velocity.png") > 10000);
   for (const char* png : {"run1/first_front.png", "run1/second_rear.png", "run2/first_rear.png"}) {
     CHECK(fs::exists(tmp.path / "rep" / png));
