@@ -242,6 +242,8 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
   INFO(drawn.out);
   REQUIRE(drawn.code == 0);
   REQUIRE(fs::exists(dir.path / "run" / "images" / "plate_front.png"));
+  REQUIRE(command("render run --size 64x64 --time 1e-6", dir.path).code == 0);
+  REQUIRE(fs::exists(dir.path / "run" / "images" / "t_1e-06" / "plate_rear.png"));
   std::ofstream(dir.path / "run" / "images" / "notes.txt") << "the user's own file\n";
 
   // Another run into the same folder, slower and without checkpoints or images. The first
@@ -254,8 +256,9 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
   CHECK(checkpoints().empty());
   CHECK(!fs::exists(dir.path / "run" / "images" / "plate_front.png"));
   CHECK(!fs::exists(dir.path / "run" / "images" / "holes.csv"));
+  CHECK(!fs::exists(dir.path / "run" / "images" / "t_1e-06"));
   CHECK(fs::exists(dir.path / "run" / "images" / "notes.txt"));  // not fesph's: kept
-  CHECK(has(second.out, "the run there before: removed its 3 checkpoints and 7 files of images/"));
+  CHECK(has(second.out, "the run there before: removed its 3 checkpoints and 14 files of images/"));
 
   // A checkpoint of the first run put back into the folder is refused there, and the failed
   // restart leaves the second run's files as they were (it rewrote scene.toml first).
@@ -275,6 +278,28 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
       command("run --restart run/earlier.h5 --out elsewhere --quiet --no-images", dir.path);
   INFO(elsewhere.out);
   CHECK(elsewhere.code == 0);
+
+  // A third run: the images folder, fesph's files alone now, goes with them.
+  fs::remove(dir.path / "run" / "images" / "notes.txt");
+  REQUIRE(command("render run --size 64x64", dir.path).code == 0);
+  const Result third =
+      runTestScene("--end-time 2e-6 --set output.checkpoint_interval=1e-6", dir.path);
+  INFO(third.out);
+  REQUIRE(third.code == 0);
+  CHECK(!fs::exists(dir.path / "run" / "images"));
+  // A restart of its own that fails on the run's files (run.h5 damaged) leaves the scene as
+  // run as it was, where the scene with the restart's changes was written before the files
+  // were opened.
+  std::ofstream(dir.path / "run" / "run.h5", std::ios::trunc) << "not HDF5\n";
+  const std::string third_scene = slurp(dir.path / "run" / "scene.toml");
+  const Result damaged = command("run --restart " + checkpoints().back().string() +
+                                     " --end-time 3e-6 --set simulation.courant=0.4 --quiet "
+                                     "--no-images",
+                                 dir.path);
+  INFO(damaged.out);
+  CHECK(damaged.code != 0);
+  CHECK(has(damaged.out, "run.h5"));
+  CHECK(slurp(dir.path / "run" / "scene.toml") == third_scene);
 }
 
 TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app]") {
