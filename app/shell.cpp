@@ -546,7 +546,9 @@ void Workbench::set(const std::vector<std::string>& a) {
   }
   for (const std::string& kv : a) std::printf("%s\n", kv.c_str());
   if (session_ && session_->model().step > 0)
-    std::printf("The model is rebuilt from t = 0 at the next run (the output in %s is rewritten)\n",
+    std::printf("The model is rebuilt from t = 0 at the next run, which replaces the run in %s: "
+                "its series, histories, checkpoints and images (a checkpoint saved elsewhere "
+                "stays)\n",
                 session_->folder().c_str());
   session_.reset();
 }

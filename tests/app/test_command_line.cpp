@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -107,7 +108,8 @@ TEST_CASE("fesph run and render: a scene named from its own folder, and times gi
   CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
 }
 
-TEST_CASE("fesph render: a field or size given wrong, and times too close for six digits",
+TEST_CASE("fesph render: a field or size given wrong, times too close for six digits, and "
+          "fesph run's --end-time and --threads as given",
           "[app]") {
   const TempFolder dir("render_command_line");
   const Result run = runTestScene("--end-time 1e-6", dir.path);
@@ -121,12 +123,20 @@ TEST_CASE("fesph render: a field or size given wrong, and times too close for si
   CHECK(has(field.out, "error: --field: no scalar cell field \"nosuch\""));
   CHECK(has(field.out, "plastic_strain"));
   // Anything after WxH was ignored: 100x100x drew 100 x 100 images.
-  for (const char* size : {"100x100x", "100x100 ", "64x64x64", "x64", "100X100"}) {
+  for (const char* size :
+       {"100x100x", "100x100 ", "64x64x64", "x64", "100X100", "63x64", "64x63", "8193x64", "64x8193"}) {
     const Result r = command(std::string("render run --size '") + size + "'", dir.path);
     INFO(r.out);
     CHECK(r.code == 2);
     CHECK(has(r.out, std::string("--size must be WxH with 64..8192 pixels each, got '") + size));
   }
+
+  // A folder that holds no run is bad input too, said before anything is drawn.
+  fs::create_directory(dir.path / "empty");
+  const Result empty = command("render empty --size 64x64", dir.path);
+  INFO(empty.out);
+  CHECK(empty.code == 2);
+  CHECK(has(empty.out, "empty is not a run folder (no elements.pvd)"));
 
   // Two times that print alike to six digits went into one folder (the second drawing over
   // the first), and the message said "no output at t = 1e-06 s: drawn at ... t = 1e-06 s".
@@ -137,6 +147,17 @@ TEST_CASE("fesph render: a field or size given wrong, and times too close for si
   CHECK(fs::exists(dir.path / "run" / "images" / "t_1.0000001e-06" / "plate_front.png"));
   CHECK(occurrences(close.out, "no output at") == 1);
   CHECK(has(close.out, "no output at t = 1.0000001e-06 s: drawn at the nearest, t = 1e-06 s"));
+
+  // --end-time to every digit given (it goes to the scene as a --set of simulation.end_time).
+  const Result precise = command("run " + std::string(FESPH_TEST_APP_DIR) +
+                                     "/shell_scene.toml --end-time 3.00000001e-7 --out precise "
+                                     "--threads 1 --quiet --no-images",
+                                 dir.path);
+  INFO(precise.out);
+  REQUIRE(precise.code == 0);
+  CHECK(has(slurp(dir.path / "precise" / "summary.toml"), "\nend_time = 3.00000001e-07\n"));
+  CHECK(has(slurp(dir.path / "precise" / "summary.toml"), "\nthreads = 1\n"));
+  CHECK(has(slurp(dir.path / "precise" / "summary.toml"), "\nstatus = \"complete\"\n"));
 }
 
 TEST_CASE("fesph run: an output folder that cannot be made is said before the meshing", "[app]") {
@@ -302,6 +323,29 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
   CHECK(slurp(dir.path / "run" / "scene.toml") == third_scene);
 }
 
+TEST_CASE("an interrupted run leaves its checkpoint and draws no images", "[app]") {
+  // Ctrl-C asks to stop: the run ends its step and writes a checkpoint, and does not keep the
+  // user waiting for the images of a run that has not ended (fesph render draws them).
+  const TempFolder dir("interrupted");
+  const fs::path run = dir.path / "run";
+  const pid_t pid = fesph::testing::startAndWait(
+      std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR +
+          "/shell_scene.toml --end-time 1e-3 --out " + run.string() + " --quiet > " +
+          (dir.path / "log").string() + " 2>&1",
+      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 4; });
+  REQUIRE(pid > 0);
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string log = slurp(dir.path / "log");
+  INFO(log);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 1);
+  CHECK(has(log, "checkpoint written to"));
+  CHECK(has(slurp(run / "summary.toml"), "\nstatus = \"interrupted\"\n"));
+  CHECK(!fs::exists(run / "images"));
+}
+
 TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app]") {
   // A time step floor the run falls under at its 17th step: the error names the element whose
   // step collapsed, and the state is where to look at it.
@@ -325,6 +369,7 @@ TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app
   const std::vector<long> steps = historySteps(dir.path / "run" / "history.csv");
   REQUIRE(!steps.empty());
   CHECK(steps.back() == summarySteps(dir.path / "run" / "summary.toml"));
+  CHECK(has(slurp(dir.path / "run" / "summary.toml"), "\nstatus = \"failed\"\n"));
 }
 
 TEST_CASE("a run's summary counts what its last output holds", "[app]") {

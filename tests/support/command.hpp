@@ -4,9 +4,12 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 namespace fesph::testing {
 
@@ -23,6 +26,20 @@ inline CommandResult runCommand(const std::string& command) {
   while (std::fgets(buf, sizeof buf, p)) r.out += buf;
   r.code = WEXITSTATUS(pclose(p));
   return r;
+}
+
+/// Starts `command` in a shell of its own (exec'd, so that a signal reaches the program) and
+/// waits until `ready` holds (polled every 20 ms, up to 8 s); the child's pid, -1 when the fork
+/// failed.
+template <class Ready> pid_t startAndWait(const std::string& command, Ready ready) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int k = 0; pid > 0 && k < 400 && !ready(); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return pid;
 }
 
 }  // namespace fesph::testing

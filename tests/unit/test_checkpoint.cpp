@@ -8,6 +8,7 @@
 #include "core/io/hdf5.hpp"
 #include "core/scene/scene.hpp"
 #include "core/solver/step.hpp"
+#include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/text.hpp"
 
@@ -114,20 +115,6 @@ int shell(const std::string& cmd) {
 std::string runCmd(const std::string& args, const fs::path& log) {
   return std::string(FESPH_BINARY) + " run " + args + " --no-images --quiet > " + log.string() +
          " 2>&1";
-}
-
-// Start `cmd` in a shell of its own (exec'd, so that a signal reaches the run) and wait until
-// `ready` holds (polled every 20 ms, up to 8 s); returns the child's pid.
-template <class Ready> pid_t startAndWait(const std::string& cmd, Ready ready) {
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  for (int k = 0; k < 400 && !ready(); ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  return pid;
 }
 
 std::size_t countOf(const std::string& text, const std::string& what) {
@@ -781,8 +768,10 @@ TEST_CASE("fesph run --restart continues the series and histories, also after a 
   REQUIRE(slurp(other / "history.csv").size() < slurp(whole / "history.csv").size());
 
   // Interrupted run: SIGINT once it has written a few history rows (5 steps a row).
-  const pid_t pid = startAndWait(runCmd(sceneRun(cut), dir.path / "cut.log"),
-                                 [&] { return countOf(slurp(cut / "history.csv"), "\n") >= 8; });
+  const pid_t pid = testing::startAndWait(runCmd(sceneRun(cut), dir.path / "cut.log"), [&] {
+    return countOf(slurp(cut / "history.csv"), "\n") >= 8;
+  });
+  REQUIRE(pid > 0);
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
@@ -822,9 +811,10 @@ TEST_CASE("a run killed outright leaves a summary that says how far it got", "[u
   // killed between that output's files and its summary, the one before).
   testing::TempFolder dir("killed");
   const fs::path out = dir.path / "run";
-  const pid_t pid =
-      startAndWait(runCmd(sceneRun(out, "--set output.interval=0.25e-6"), dir.path / "log"),
-                   [&] { return countOf(slurp(out / "elements.pvd"), "<DataSet") >= 3; });
+  const pid_t pid = testing::startAndWait(
+      runCmd(sceneRun(out, "--set output.interval=0.25e-6"), dir.path / "log"),
+      [&] { return countOf(slurp(out / "elements.pvd"), "<DataSet") >= 3; });
+  REQUIRE(pid > 0);
   kill(pid, SIGKILL);
   int status = 0;
   waitpid(pid, &status, 0);
