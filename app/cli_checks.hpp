@@ -10,19 +10,24 @@
 
 namespace fesph {
 
+/// `text` read whole as a number into `value`; false when it is not one (or has more after it).
+inline bool readNumber(const std::string& text, double& value) {
+  std::size_t used = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == text.size();
+}
+
 /// A finite number above 0 (or at 0 too: `zero_allowed`).
 inline CLI::Validator finiteNumber(bool zero_allowed) {
   const std::string expected = zero_allowed ? "a number >= 0" : "a number > 0";
   return CLI::Validator(
       [zero_allowed, expected](std::string& text) -> std::string {
-        std::size_t used = 0;
         double value = 0;
-        try {
-          value = std::stod(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != text.size()) return "expected a number, got '" + text + "'";
+        if (!readNumber(text, value)) return "expected a number, got '" + text + "'";
         if (!std::isfinite(value) || value < 0 || (value == 0 && !zero_allowed))
           return "expected " + expected + ", got " + text;
         return "";
@@ -34,14 +39,8 @@ inline CLI::Validator finiteNumber(bool zero_allowed) {
 inline CLI::Validator openFraction() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
-        std::size_t used = 0;
         double value = 0;
-        try {
-          value = std::stod(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used != text.size() || !(value > 0 && value < 1))
+        if (!readNumber(text, value) || !(value > 0 && value < 1))
           return "expected a number in (0, 1), got " + text;
         return "";
       },
