@@ -63,7 +63,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
                                  "", out_dir + "/velocity.png", o)
                   .c_str());
   writeHolesCsv(out_dir + "/holes.csv", holes);
-  writeHolesJson(out_dir + "/holes.json", holes);
+  writeHolesJson(out_dir + "/holes.json", holes, field,
+                 plates.empty() ? time : plates.front().time);
   const DebrisSummary debris = writeDebrisTable(run_dir, plates, out_dir);
   std::printf("  debris: %s/debris.csv (%zu clumps of free particles, %zu would strike a plate)\n",
               out_dir.c_str(), debris.clumps, debris.strikes);

@@ -16,6 +16,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -141,18 +142,31 @@ double at(const std::vector<double>& v, std::size_t k) {
   return k < v.size() ? v[k] : std::nan("");
 }
 
-// Copy a run's images into the report (drawn first when the run has none).
+// Copy a run's images into the report (drawn first when the run has none). Images of another
+// field (`fesph render --field`; holes.json names it, none before it did) are left to the run,
+// and the report draws its own damage views.
 std::vector<std::string> plateImages(const ReportRun& r, const fs::path& out, int index) {
-  const fs::path images = r.dir / "images";
-  if (!fs::exists(images / "holes.csv")) renderRun(r.dir.string(), -1.0, "damage", 1200, 900,
-                                                   images.string());
+  fs::path images = r.dir / "images";
   const fs::path dest = out / ("run" + std::to_string(index));
+  if (!fs::exists(images / "holes.csv")) {
+    renderRun(r.dir.string(), -1.0, "damage", 1200, 900, images.string());
+  } else {
+    std::ifstream json(images / "holes.json");
+    const std::string text((std::istreambuf_iterator<char>(json)),
+                           std::istreambuf_iterator<char>());
+    if (text.find("\"field\": ") != std::string::npos &&
+        text.find("\"field\": \"damage\"") == std::string::npos) {
+      renderRun(r.dir.string(), -1.0, "damage", 1200, 900, dest.string());
+      images = dest;
+    }
+  }
   fs::create_directories(dest);
   std::vector<std::string> copied;
   for (const auto& entry : fs::directory_iterator(images)) {
     const fs::path p = entry.path();
     if (p.extension() != ".png" && p.extension() != ".csv" && p.extension() != ".json") continue;
-    fs::copy_file(p, dest / p.filename(), fs::copy_options::overwrite_existing);
+    if (images != dest)
+      fs::copy_file(p, dest / p.filename(), fs::copy_options::overwrite_existing);
     if (p.extension() == ".png") copied.push_back((dest.filename() / p.filename()).string());
   }
   std::sort(copied.begin(), copied.end());

@@ -348,9 +348,11 @@ void writeHolesCsv(const std::string& path, const std::vector<PlateHoles>& plate
   if (!out) throw RunError("cannot write " + path);
 }
 
-void writeHolesJson(const std::string& path, const std::vector<PlateHoles>& plates) {
+void writeHolesJson(const std::string& path, const std::vector<PlateHoles>& plates,
+                    const std::string& field, double time) {
   std::ofstream out = openForWrite(path);
-  out << "{\n  \"plates\": [";
+  out << "{\n  \"field\": " << jsonString(field) << ", \"time_s\": " << num(time)
+      << ",\n  \"plates\": [";
   for (std::size_t i = 0; i < plates.size(); ++i) {
     const PlateHoles& p = plates[i];
     out << (i ? "," : "") << "\n    {\"name\": " << jsonString(p.plate)

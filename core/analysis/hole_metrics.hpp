@@ -71,8 +71,10 @@ PlateHoles findHoles(const Model& model, int body, const HoleOptions& options = 
 /// Plates without holes get no row. Throws RunError when the file cannot be written.
 void writeHolesCsv(const std::string& path, const std::vector<PlateHoles>& plates);
 
-/// {"plates": [{"name", "count", "cell_size_m", "holes": [{area_m2, diameter_m, centroid_m,
-/// on_symmetry, outline_m: [[x,y,z], ...]}]}]}. Throws RunError when it cannot be written.
-void writeHolesJson(const std::string& path, const std::vector<PlateHoles>& plates);
+/// {"field", "time_s", "plates": [{"name", "count", "cell_size_m", "holes": [{area_m2,
+/// diameter_m, centroid_m, on_symmetry, outline_m: [[x,y,z], ...]}]}]}: `field` and `time` say
+/// what the images drawn with the holes show. Throws RunError when it cannot be written.
+void writeHolesJson(const std::string& path, const std::vector<PlateHoles>& plates,
+                    const std::string& field, double time);
 
 }  // namespace fesph

@@ -434,7 +434,7 @@ TEST_CASE("hole metrics: from a Model, and CSV/JSON output", "[unit][analysis]")
                    ("fesph_holes_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   writeHolesCsv((dir / "holes.csv").string(), {h});
-  writeHolesJson((dir / "holes.json").string(), {h});
+  writeHolesJson((dir / "holes.json").string(), {h}, "plastic_strain", 2.5e-5);
   std::ifstream csv(dir / "holes.csv");
   std::string header, row;
   std::getline(csv, header);
@@ -445,5 +445,8 @@ TEST_CASE("hole metrics: from a Model, and CSV/JSON output", "[unit][analysis]")
   json << std::ifstream(dir / "holes.json").rdbuf();
   CHECK(json.str().find("\"count\": 1") != std::string::npos);
   CHECK(json.str().find("\"outline_m\": [[") != std::string::npos);
+  // what the images beside it show: the field and the output's time
+  CHECK(json.str().find("\"field\": \"plastic_strain\", \"time_s\": 2.5e-05") !=
+        std::string::npos);
   std::filesystem::remove_all(dir);
 }

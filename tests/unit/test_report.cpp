@@ -168,6 +168,17 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
     CHECK(fs::exists(tmp.path / "rep" / png));
     CHECK(md.find(png) != std::string::npos);
   }
+  // Images the user drew of another field into the run's images/ are not the report's damage
+  // views: it copied them under "coloured by damage". It draws its own now, and leaves the
+  // user's as they are.
+  REQUIRE(run("render " + (tmp.path / "fe").string() + " --field plastic_strain --size 64x64") ==
+          0);
+  REQUIRE(run("report " + (tmp.path / "fe").string() + " --out " +
+              (tmp.path / "rep_field").string()) == 0);
+  CHECK(read(tmp.path / "rep_field" / "run1" / "holes.json").find("\"field\": \"damage\"") !=
+        std::string::npos);
+  CHECK(read(tmp.path / "fe" / "images" / "holes.json").find("\"field\": \"plastic_strain\"") !=
+        std::string::npos);
   // No symmetry plane: no word of particles across one.
   CHECK(md.find("Check failed") == std::string::npos);
   CHECK(read(tmp.path / "fe" / "summary.toml").find("across_symmetry") == std::string::npos);
