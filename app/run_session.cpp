@@ -128,6 +128,8 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   if (own) {
     refuseToCutLaterCheckpoints(checkpoint);
     refuseAnotherRunsHistory(checkpoint, saved);
+  } else {
+    clearEarlierRun(log);  // fresh series and histories there: the run there before goes whole
   }
   openWriters(own, saved);
   started_ = true;
@@ -169,9 +171,15 @@ void RunSession::clearEarlierRun(std::ostream* log) const {
     for (const fs::path& t : times) clear(t);
     clear(image_dir);
   }
-  if (log && checkpoints + images > 0)
-    *log << folder() << ": the run there before: removed its " << checkpoints
-         << " checkpoints and " << images << " files of images/" << std::endl;
+  if (!log || checkpoints + images == 0) return;
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  std::string removed;
+  if (checkpoints > 0) removed = count(checkpoints, "checkpoint", "checkpoints");
+  if (images > 0)
+    removed += (removed.empty() ? "" : " and ") + count(images, "file", "files") + " of images/";
+  *log << folder() << ": the run there before: removed its " << removed << std::endl;
 }
 
 // Going back in the checkpoint's own folder cuts its series and histories back to the

@@ -295,11 +295,16 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
   CHECK(slurp(dir.path / "run" / "scene.toml") == scene_before);
   CHECK(slurp(dir.path / "run" / "history.csv") == history_before);
   CHECK(slurp(dir.path / "run" / "elements.pvd") == pvd_before);
-  // Into a folder of its own it goes on.
+  // Into a folder of its own it goes on. That folder's run before goes whole, as for a fresh
+  // run: its checkpoints would outnumber this run's own when the oldest are pruned.
+  fs::create_directory(dir.path / "elsewhere");
+  fs::copy_file(earlier, dir.path / "elsewhere" / "checkpoint_000000999.h5");
   const Result elsewhere =
       command("run --restart run/earlier.h5 --out elsewhere --quiet --no-images", dir.path);
   INFO(elsewhere.out);
   CHECK(elsewhere.code == 0);
+  CHECK(!fs::exists(dir.path / "elsewhere" / "checkpoint_000000999.h5"));
+  CHECK(has(elsewhere.out, "the run there before: removed its 1 checkpoint\n"));
 
   // A third run: the images folder, fesph's files alone now, goes with them.
   fs::remove(dir.path / "run" / "images" / "notes.txt");
@@ -308,6 +313,7 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
       runTestScene("--end-time 2e-6 --set output.checkpoint_interval=1e-6", dir.path);
   INFO(third.out);
   REQUIRE(third.code == 0);
+  CHECK(has(third.out, "the run there before: removed its 7 files of images/"));
   CHECK(!fs::exists(dir.path / "run" / "images"));
   // A restart of its own that fails on the run's files (run.h5 damaged) leaves the scene as
   // run as it was, where the scene with the restart's changes was written before the files
