@@ -42,6 +42,8 @@ int renderCommand(const RenderOptions& opt);
 /// Throws RunError.
 void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
                int height, const std::string& out_dir);
+/// Whether `name` is one of the files renderRun writes (which a new run into the folder removes).
+bool isRenderedFile(const std::string& name);
 
 struct ReportOptions {
   std::vector<std::string> run_dirs;  ///< run folders; the first one's scene gives the reference

@@ -4,6 +4,7 @@
 
 #include "core/analysis/hole_metrics.hpp"
 #include "core/common/error.hpp"
+#include "core/common/number_text.hpp"
 #include "render/debris_table.hpp"
 #include "render/plate_images.hpp"
 #include "render/section_view.hpp"
@@ -19,13 +20,6 @@ namespace fesph {
 namespace fs = std::filesystem;
 
 namespace {
-
-// A time as typed, to every digit it needs: 1e-06 and 1.0000001e-06 are two folders.
-std::string shortest(double t) {
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, t);
-  return std::string(buf, r.ptr);
-}
 
 // WxH, two whole numbers and nothing else.
 bool parseSize(const std::string& size, int& width, int& height) {
@@ -50,7 +44,7 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   // output: say which.
   if (time >= 0 && !plates.empty() && std::abs(plates.front().time - time) > 1e-9 * time)
     std::printf("  no output at t = %s s: drawn at the nearest, t = %s s\n",
-                shortest(time).c_str(), shortest(plates.front().time).c_str());
+                shortestText(time).c_str(), shortestText(plates.front().time).c_str());
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);
@@ -68,6 +62,16 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   const DebrisSummary debris = writeDebrisTable(run_dir, plates, out_dir);
   std::printf("  debris: %s/debris.csv (%zu clumps of free particles, %zu would strike a plate)\n",
               out_dir.c_str(), debris.clumps, debris.strikes);
+}
+
+bool isRenderedFile(const std::string& name) {
+  const auto ends = [&](const std::string& tail) {
+    return name.size() > tail.size() &&
+           name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  return ends("_front.png") || ends("_rear.png") || name == "section.png" ||
+         name == "velocity.png" || name == "holes.csv" || name == "holes.json" ||
+         name == "debris.csv";
 }
 
 int renderCommand(const RenderOptions& opt) {
@@ -88,7 +92,7 @@ int renderCommand(const RenderOptions& opt) {
       renderRun(opt.run_dir, -1.0, opt.field, width, height, out);
     } else {
       for (double t : opt.times)
-        renderRun(opt.run_dir, t, opt.field, width, height, out + "/t_" + shortest(t));
+        renderRun(opt.run_dir, t, opt.field, width, height, out + "/t_" + shortestText(t));
     }
   } catch (const UnknownField& e) {
     std::fprintf(stderr, "error: --field: %s\n", e.what());

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "app/run_session.hpp"
 
+#include "app/commands.hpp"
+
 #include "core/analysis/fragments.hpp"
 #include "core/analysis/plate_crossings.hpp"
 #include "core/analysis/symmetry_leak.hpp"
@@ -147,18 +149,9 @@ void RunSession::clearEarlierRun(std::ostream* log) const {
   std::error_code ec;
   std::size_t checkpoints = 0, images = 0;
   for (const std::string& path : listCheckpoints(folder())) checkpoints += fs::remove(path, ec);
-  const auto drawn = [](const std::string& name) {
-    const auto ends = [&](const std::string& tail) {
-      return name.size() > tail.size() &&
-             name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
-    };
-    return ends("_front.png") || ends("_rear.png") || name == "section.png" ||
-           name == "velocity.png" || name == "holes.csv" || name == "holes.json" ||
-           name == "debris.csv";
-  };
   const auto clear = [&](const fs::path& dir) {  // drawn files, then the folder if empty
     for (const fs::directory_entry& f : fs::directory_iterator(dir, ec))
-      if (f.is_regular_file(ec) && drawn(f.path().filename().string()))
+      if (f.is_regular_file(ec) && isRenderedFile(f.path().filename().string()))
         images += fs::remove(f.path(), ec);
     if (fs::is_empty(dir, ec)) fs::remove(dir, ec);
   };

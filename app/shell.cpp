@@ -9,6 +9,7 @@
 #include "core/analysis/fragments.hpp"
 #include "core/analysis/plate_crossings.hpp"
 #include "core/common/error.hpp"
+#include "core/common/number_text.hpp"
 #include "core/common/toml_check.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/state/model_build.hpp"
@@ -19,7 +20,6 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -120,9 +120,7 @@ std::string tomlString(std::string_view text) {
 /// takes the shortest form that reads back as the same double: an exported scene is the scene.
 std::string tomlText(const toml::node& node) {
   if (const auto* v = node.as_floating_point()) {
-    char buf[40];
-    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, v->get());
-    const std::string s(buf, r.ptr);
+    const std::string s = shortestText(v->get());
     return s.find_first_of(".eEn") == std::string::npos ? s + ".0" : s;
   }
   if (const auto* v = node.as_integer()) return std::to_string(v->get());

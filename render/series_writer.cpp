@@ -4,6 +4,7 @@
 #include "render/series_writer.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/number_text.hpp"
 #include "core/io/replace_file.hpp"
 #include "core/scene/scene.hpp"
 
@@ -39,12 +40,6 @@ namespace fesph {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string shortest(double value) {
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, value);
-  return std::string(buf, res.ptr);
-}
 
 // A plain file name cannot escape the folder and needs no XML escaping.
 bool isPlainFileName(const std::string& name) {
@@ -182,7 +177,7 @@ void PvdCollection::save() const {
            "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
            "  <Collection>\n";
     for (const Entry& e : entries_)
-      out << "    <DataSet timestep=\"" << shortest(e.time) << "\" part=\"0\" file=\""
+      out << "    <DataSet timestep=\"" << shortestText(e.time) << "\" part=\"0\" file=\""
           << e.file << "\"/>\n";
     out << "  </Collection>\n"
            "</VTKFile>\n";
