@@ -110,7 +110,9 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   if (!reached(endTime(), model_.time))
     throw InputError(checkpoint, 0, 0,
                      "the end time " + seconds(endTime()) + " lies before the checkpoint's t = " +
-                         seconds(model_.time) + ": nothing to run (give a later --end-time)");
+                         seconds(model_.time) +
+                         ": nothing to run (give a later simulation.end_time; fesph run: "
+                         "--end-time)");
   if (model_.symmetry.empty()) model_.symmetry = scene_.symmetry;  // format 4 did not keep them
   const fs::path parent = fs::path(checkpoint).parent_path();
   scene_.output.folder = !out_folder.empty() ? out_folder

@@ -590,6 +590,7 @@ void Workbench::advance(double until, long steps) {
   const StopReason why = s.advance(until, steps, stop_);
   s.onStep(nullptr);
   progress.finish();
+  writeStatus();
   const Model& m = s.model();
   switch (why) {
     case StopReason::EndTime:
@@ -605,7 +606,7 @@ void Workbench::advance(double until, long steps) {
                   m.step);
       break;
     case StopReason::Failed:
-      throw RunError("the run stopped at t = " + std::to_string(m.time) + " s, step " +
+      throw RunError("the run stopped at t = " + seconds(m.time) + ", step " +
                      std::to_string(m.step) + ": " + s.failure() + "\nThe output so far is valid and kept in " +
                      s.folder());
   }
@@ -616,7 +617,13 @@ void Workbench::run(const std::vector<std::string>& a) {
   if (a.size() == 2 && (a[0] == "for" || a[0] == "to")) {
     const double t = parseTime(a[1]);
     RunSession& s = session();
-    return advance(a[0] == "for" ? s.model().time + t : t, -1);
+    if (a[0] == "for" && !(t > 0)) throw UsageError("run for T: T must be > 0");
+    const double now = s.model().time;
+    // Without this the run took no step and printed where it stood, as if it had got there.
+    if (a[0] == "to" && !(t > now) && !s.complete())
+      throw UsageError("run to " + a[1] + ": the model is at t = " + seconds(now) +
+                       " already; `run to` a later time (going back: `restart` a checkpoint)");
+    return advance(a[0] == "for" ? now + t : t, -1);
   }
   throw UsageError("usage: run [for T | to T]");
 }
@@ -877,14 +884,18 @@ void Workbench::report(const std::vector<std::string>& a) {
       o.run_dirs.push_back(a[k]);
   }
   if (o.run_dirs.empty()) o.run_dirs.push_back(runFolder());
-  if (session_) {
-    // The report reads summary.toml; the shell's run has not ended, so say where it stands.
-    const RunSession& s = *session_;
-    s.writeSummary(s.folder() + "/summary.toml", !s.failure().empty() ? "failed"
-                                                 : s.complete()        ? "complete"
-                                                                       : "paused");
-  }
+  writeStatus();
   if (reportCommand(o) != 0) throw Reported();
+}
+
+void Workbench::writeStatus() const {
+  // summary.toml says where the shell's run stands, for `fesph report` and a reader of the
+  // folder; without it the folder kept the "running" of its last field output.
+  if (!session_) return;
+  const RunSession& s = *session_;
+  s.writeSummary(s.folder() + "/summary.toml", !s.failure().empty() ? "failed"
+                                               : s.complete()        ? "complete"
+                                                                     : "paused");
 }
 
 void Workbench::help(const std::vector<std::string>& a) {

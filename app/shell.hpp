@@ -67,6 +67,8 @@ class Workbench {
   RunSession& session();
   /// Drive the session to `until` or by `steps` with Ctrl-C as the stop flag, and report.
   void advance(double until, long steps);
+  /// summary.toml of the session's run with its status now: complete, failed or paused.
+  void writeStatus() const;
   /// A run folder holding what is to be drawn: the model as it is now (written to
   /// RUN_FOLDER/shell/state, one series step with its scene.toml) or the loaded run folder.
   /// Sets `info` (bodies) and `time` (of the state drawn).

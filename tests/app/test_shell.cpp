@@ -391,6 +391,50 @@ TEST_CASE("fesph shell: a run paused at times of the user's is the run straight 
   }
 }
 
+/// The `key = value` line of summary.toml in `folder`, value only; empty if none.
+std::string summaryValue(const fs::path& folder, const std::string& key) {
+  const std::string line = lineWith(slurp(folder / "summary.toml"), key + " = ");
+  return line.empty() ? "" : line.substr(key.size() + 3);
+}
+
+TEST_CASE("fesph shell: the run folder's summary says where the run stands and when it failed",
+          "[app][shell]") {
+  // summary.toml's status is what `fesph report` shows (paused, complete, failed); a shell run
+  // used to leave the "running" of its last field output there, whatever became of it.
+  TempFolder dir("shell_status");
+  const fs::path out = dir.path / "run";
+  // `run to` a time already passed and `run for 0` take no step and say so.
+  const Result paused = shell(kScene + " --out " + out.string(),
+                              "step 3\nrun to 1e-9\nrun for 0\nrun to 0.05us\n", dir.path);
+  INFO(paused.out);
+  CHECK(paused.code == 1);
+  CHECK(occurrences(paused.out, "the model is at t = ") == 2);
+  CHECK(paused.out.find("run for T: T must be > 0") != std::string::npos);
+  CHECK(summaryValue(out, "status") == "\"paused\"");
+  CHECK(summaryValue(out, "steps") == "3");
+
+  const Result complete = shell(kScene + " --out " + out.string(), "run\n", dir.path);
+  INFO(complete.out);
+  CHECK(complete.code == 0);
+  CHECK(summaryValue(out, "status") == "\"complete\"");
+
+  // A time step floor the impact crosses after a few steps: the message gives the time it
+  // stopped at (it said "t = 0.000001 s" for 5.35e-7 s), the summary the same time.
+  const Result failed =
+      shell(kScene + " --out " + out.string(), "set simulation.dt_min=3e-8\nrun\n", dir.path);
+  INFO(failed.out);
+  CHECK(failed.code == 1);
+  CHECK(summaryValue(out, "status") == "\"failed\"");
+  const std::string time = summaryValue(out, "time");
+  REQUIRE(!time.empty());
+  CHECK(std::stod(time) > 0);
+  std::smatch m;
+  REQUIRE(std::regex_search(failed.out, m,
+                            std::regex("the run stopped at t = ([0-9.e+-]+) s, step ([0-9]+):")));
+  CHECK(std::stod(m[1]) == Approx(std::stod(time)).epsilon(1e-8));  // 9 digits against 10
+  CHECK(m[2] == summaryValue(out, "steps"));
+}
+
 TEST_CASE("fesph shell: going back past a later checkpoint is refused, --out goes on elsewhere",
           "[app][shell]") {
   TempFolder dir("shell_restart_older");
