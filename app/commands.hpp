@@ -42,6 +42,10 @@ int renderCommand(const RenderOptions& opt);
 /// Throws RunError.
 void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
                int height, const std::string& out_dir);
+/// The line (indented, with its newline) saying that `asked` is no output time of the run and
+/// `found`, the nearest, was `done` ("drawn", "compared") instead; empty when `asked` < 0 (the
+/// last output asked for) or is `found`.
+std::string nearestOutputNote(double asked, double found, const std::string& done);
 /// Whether `name` is one of the files renderRun writes (which a new run into the folder removes).
 bool isRenderedFile(const std::string& name);
 

@@ -152,13 +152,15 @@ int compareCommand(const CompareCommandOptions& opt) {
     double time = 0;
     const SimulatedPlate plate = readSimulatedPlate(opt.run_dir, opt.time, body, info.half, &time);
     const PhotoSegmentation seg = segmentHoles(photo, so);
-    const HoleComparison cmp = compareHoles(seg, plate, co);
-
+    // What is compared first, so that a comparison that cannot be made says of what.
     std::printf("fesph compare: plate '%s' at t = %.3f us against %s (%d x %d px, %.4g mm/px, %s face)\n",
                 name.c_str(), time * 1e6, opt.image.c_str(), photo.width, photo.height,
                 opt.mm_per_px, co.rear ? "rear" : "front");
+    std::printf("%s", nearestOutputNote(opt.time, time, "compared").c_str());
     std::printf("  threshold %.4f (%s), holes %s\n", seg.threshold,
                 seg.automatic ? "Otsu" : "given", so.dark_holes ? "dark" : "bright");
+    std::fflush(stdout);  // before an error on stderr
+    const HoleComparison cmp = compareHoles(seg, plate, co);
     const Eigen::Vector2d c0 = cmp.frame.toPixel(Eigen::Vector2d::Zero());
     std::printf("  registration: plate centre at pixel (%.1f, %.1f) (%s)\n", c0.x(), c0.y(),
                 co.centre_px ? "given" : "holes' centroids aligned");

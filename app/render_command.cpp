@@ -32,6 +32,14 @@ bool parseSize(const std::string& size, int& width, int& height) {
 
 }  // namespace
 
+std::string nearestOutputNote(double asked, double found, const std::string& done) {
+  // A time between outputs or past the run's end (one typed in us, not s) takes the nearest
+  // output: say which.
+  if (asked < 0 || std::abs(found - asked) <= 1e-9 * asked) return "";
+  return "  no output at t = " + shortestText(asked) + " s: " + done + " at the nearest, t = " +
+         shortestText(found) + " s\n";
+}
+
 void renderRun(const std::string& run_dir, double time, const std::string& field, int width,
                int height, const std::string& out_dir) {
   ImageOptions o;
@@ -40,11 +48,7 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   o.field = field;
   fs::create_directories(out_dir);
   const std::vector<PlateImages> plates = renderPlateImages(run_dir, time, o, out_dir);
-  // A time between outputs or past the run's end (one typed in us, not s) draws the nearest
-  // output: say which.
-  if (time >= 0 && !plates.empty() && std::abs(plates.front().time - time) > 1e-9 * time)
-    std::printf("  no output at t = %s s: drawn at the nearest, t = %s s\n",
-                shortestText(time).c_str(), shortestText(plates.front().time).c_str());
+  if (!plates.empty()) std::printf("%s", nearestOutputNote(time, plates.front().time, "drawn").c_str());
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// `fesph run` and `fesph render` through the binary: a scene named from its own folder,
-// command-line values that say what was expected when they are wrong, an output folder that
-// cannot be made, a restart that refuses changes it could not make, a failed run's last
-// state (also at its first step, and at once after a restart), the history's rows and the
+// `fesph run`, `fesph render` and `fesph compare` through the binary: a scene named from its
+// own folder, command-line values that say what was expected when they are wrong, an output
+// folder that cannot be made, a restart that refuses changes it could not make, a failed run's
+// last state (also at its first step, and at once after a restart), the history's rows and the
 // summary's counts.
 #include "tests/support/command.hpp"
 #include "tests/support/temp_folder.hpp"
@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -67,7 +68,8 @@ long summarySteps(const fs::path& summary) {
 
 }  // namespace
 
-TEST_CASE("fesph run and render: a scene named from its own folder, and times given wrong", "[app]") {
+TEST_CASE("fesph run, render and compare: a scene named from its own folder, and times given wrong",
+          "[app]") {
   const TempFolder dir("command_line");
   fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml", dir.path / "scene.toml");
 
@@ -106,6 +108,30 @@ TEST_CASE("fesph run and render: a scene named from its own folder, and times gi
   INFO(negative.out);
   CHECK(negative.code == 2);
   CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
+
+  // fesph compare takes the nearest output too: it said only "at t = 1.000 us" in its heading.
+  {
+    std::ofstream photo(dir.path / "photo.pgm", std::ios::binary);  // a dark disc, r = 20 px
+    photo << "P5\n100 100\n255\n";
+    for (int j = 0; j < 100; ++j)
+      for (int i = 0; i < 100; ++i)
+        photo.put(static_cast<char>(std::hypot(i - 49.5, j - 49.5) < 20 ? 30 : 200));
+  }
+  const std::string compare = "compare run --image photo.pgm --mm-per-px 0.1 ";
+  const Result late = command(compare + "--time 5 --center 50,50", dir.path);
+  INFO(late.out);
+  CHECK(late.code == 0);
+  CHECK(has(late.out, "no output at t = 5 s: compared at the nearest, t = 1e-06 s"));
+  const Result exact_compare = command(compare + "--time 1e-6 --center 50,50", dir.path);
+  INFO(exact_compare.out);
+  CHECK(exact_compare.code == 0);
+  CHECK(!has(exact_compare.out, "no output at"));
+  // A comparison that cannot be made (no hole at the start to align on) says of which time.
+  const Result start = command(compare + "--time 0", dir.path);
+  INFO(start.out);
+  CHECK(start.code == 2);
+  CHECK(has(start.out, "fesph compare: plate 'plate' at t = 0.000 us against photo.pgm"));
+  CHECK(has(start.out, "error: the simulated plate has no through-hole"));
 }
 
 TEST_CASE("fesph render: a field or size given wrong, times too close for six digits, and "
