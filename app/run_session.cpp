@@ -265,7 +265,7 @@ std::string RunSession::checkpoint() {
 // One row a step: the end time, or a failure, can fall on a step that has its row already
 // (taken at the interval, or before the checkpoint a run continues from).
 void RunSession::recordHistory() {
-  if (history_->lastStep() == model_.step) return;
+  if (history_->endsAt(model_.energy.time)) return;
   history_->record(model_);
   history_h5_->record(model_);
 }
@@ -308,7 +308,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
           std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       element_steps_ += static_cast<double>(liveElements(model_));
       crossings_->update(model_);
-      if ((model_.step - 1) % scene_.output.history_every == 0) recordHistory();  // 1, 1+n, ...
+      if (model_.energy.step % scene_.output.history_every == 0) recordHistory();  // 0, n, 2n...
       if (reached(model_.time, t_stop)) {
         if (t_stop == next_output_ || complete()) {
           writeOutput();

@@ -42,7 +42,9 @@ constexpr const char* kFormat = "fesph checkpoint";
 //    predicts its volumes; older files read it as 0 (one step weighted by V^{n-1}).
 // 12: the history's last row (RunProgress::history_last_row); older files leave it empty and
 //    their restart does not check the folder's history against it.
-constexpr std::int64_t kFormatVersion = 12;
+// 13: the energy budget's step (EnergyBudget::step), which labels the history's rows; older
+//     files take the step before the model's.
+constexpr std::int64_t kFormatVersion = 13;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -98,7 +100,7 @@ FESPH_CHECKPOINT_FIELDS(SphSnapshot, 11 * kVec);
 FESPH_CHECKPOINT_FIELDS(SphWorkspace, sizeof(SphControls) + sizeof(NeighbourSearch) +
                                           2 * sizeof(NeighbourList) + 2 * sizeof(SphSnapshot) +
                                           12 * kVec + 5 * kVec /* scratch */);
-FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double));
+FESPH_CHECKPOINT_FIELDS(EnergyBudget, 15 * sizeof(double) + sizeof(long));
 FESPH_CHECKPOINT_FIELDS(ConversionStats, 4 * sizeof(long) + sizeof(double));
 FESPH_CHECKPOINT_FIELDS(SolverControls, sizeof(ContactControls) + sizeof(ConversionControls) +
                                             8 * sizeof(double));
@@ -450,6 +452,7 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
       {"kinetic_half", &en.kinetic_half}, {"time", &en.time}};
   for (auto [key, x] : terms) ar.value(key, *x);
   ar.value("momentum", en.momentum);
+  if (ar.version >= 13) ar.value("step", en.step);
   ar.leave();
 
   ar.enter("conversion");
@@ -481,6 +484,8 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   ar.value("dt", m.dt);
   ar.value("step", m.step);
   ar.value("dt_limiter", m.dt_limiter);
+  // Before format 13: the budget is the one the last step closed, at t^(step - 1).
+  if (Ar::reading && ar.version < 13) m.energy.step = std::max(0L, m.step - 1);
 }
 
 template <class Ar> void transfer(Ar& ar, RunProgress& r) {

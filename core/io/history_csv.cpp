@@ -7,7 +7,6 @@
 
 #include <cerrno>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -41,11 +40,22 @@ HistoryCsv::HistoryCsv(const std::string& path, std::size_t rows) : path_(path) 
   if (rows > 0) {  // the last row kept: time,step,...
     const std::size_t row = kept.rfind('\n', kept.size() - 2) + 1;
     last_row_ = kept.substr(row, kept.size() - 1 - row);
-    last_step_ = std::strtol(kept.c_str() + kept.find(',', row) + 1, nullptr, 10);
   }
   replaceFile(path, kept);
   out_.open(path, std::ios::app);
   if (!out_) throw RunError("cannot write history file " + path);
+}
+
+std::string HistoryCsv::timeText(double time) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", time);
+  return buf;
+}
+
+bool HistoryCsv::endsAt(double time) const {
+  const std::string t = timeText(time);
+  return last_row_.size() > t.size() && last_row_.compare(0, t.size(), t) == 0 &&
+         last_row_[t.size()] == ',';
 }
 
 std::string HistoryCsv::row(const std::string& path, std::size_t n) {
@@ -65,9 +75,8 @@ void HistoryCsv::record(const Model& model) {
     row += buf;
   };
   auto count = [&](long long n) { row += ',' + std::to_string(n); };
-  std::snprintf(buf, sizeof buf, "%.10g,%ld", en.time, model.step);
-  row = buf;
-  last_step_ = model.step;
+  row = timeText(en.time);
+  row += ',' + std::to_string(en.step);
   for (double x : {model.dt, en.kinetic, en.internal, en.plastic_work, en.bulk_viscosity,
                    en.contact, en.eroded, en.conversion, en.total(), en.balanceError(),
                    en.momentum.x(), en.momentum.y(), en.momentum.z()})

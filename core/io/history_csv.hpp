@@ -20,8 +20,10 @@ class HistoryCsv {
   /// Append the budget at model.energy.time.
   void record(const Model& model);
   const std::string& path() const { return path_; }
-  /// The step of the last row (a continued file's included); -1 before the first.
-  long lastStep() const { return last_step_; }
+  /// Whether the last row (a continued file's included) is the budget at `time`: a step's
+  /// row is written once. By its time, not its step: files of fesph before checkpoint format
+  /// 13 label a row with the step after its time's.
+  bool endsAt(double time) const;
   /// The last row's text, without its line break ("" before the first). A checkpoint keeps
   /// it, so that a restart can tell its own run's history from another run's in the folder.
   const std::string& lastRow() const { return last_row_; }
@@ -32,7 +34,7 @@ class HistoryCsv {
  private:
   std::string path_;
   std::ofstream out_;
-  long last_step_ = -1;
+  static std::string timeText(double time);  ///< a row's time column
   std::string last_row_;
 };
 

@@ -118,7 +118,7 @@ void HistoryH5::record(const Model& model) {
   auto vector = [&](const Vec3& v) { tables_[k++].append(v.data()); };
 
   real(en.time);
-  count(model.step);
+  count(en.step);
   real(model.dt);
   std::array<char, kLimiterSize> limiter{};
   std::strncpy(limiter.data(), model.dt_limiter.c_str(), kLimiterSize - 1);

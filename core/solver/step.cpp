@@ -217,6 +217,7 @@ void recordEnergyBudget(Model& model, double dissipated) {
   en.contact = en.contact_through_half + (model.step == 0 ? 0.0 : 0.5 * dissipated);
   en.contact_through_half += dissipated;
   en.time = model.time;
+  en.step = model.step;
   if (en.balanceError() > kMaxEnergyError) reportEnergyRunaway(model);
 }
 

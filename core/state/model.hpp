@@ -135,7 +135,10 @@ struct EnergyBudget {
   double initial = 0;         ///< total at t = 0
   double kinetic_half = 0;    ///< kinetic energy at the last half step, after corrections
   Vec3 momentum = Vec3::Zero();  ///< linear momentum at the last half step, kg m/s
-  double time = 0;            ///< the time the terms above refer to, s
+  double time = 0;            ///< the time t^n the terms above refer to, s
+  /// The step index n of `time`: the budget at t^n is closed within the step from t^n (the
+  /// kinetic energy needs the half step after it), so it is one behind the model's step count.
+  long step = 0;
   double total() const { return kinetic + internal + contact + eroded + conversion; }
   /// |total - initial| / initial.
   double balanceError() const {

@@ -398,10 +398,11 @@ TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app
   CHECK(times[0] == 0);
   CHECK(times[1] == Approx(std::stod(stopped[1])).epsilon(1e-5));
   CHECK(fs::exists(dir.path / "run" / "elements_000001.vtu"));
-  // the history's last row is the step it stopped at, whatever history_every (5 here)
+  // the history's last row is the budget of the last step done, whatever history_every (5
+  // here): at the step before (the step that fails at its time step closes no budget)
   const std::vector<long> steps = historySteps(dir.path / "run" / "history.csv");
   REQUIRE(!steps.empty());
-  CHECK(steps.back() == summarySteps(dir.path / "run" / "summary.toml"));
+  CHECK(steps.back() == summarySteps(dir.path / "run" / "summary.toml") - 1);
   CHECK(has(slurp(dir.path / "run" / "summary.toml"), "\nstatus = \"failed\"\n"));
 }
 
@@ -478,11 +479,13 @@ TEST_CASE("a continued run that fails at once writes no output or history row tw
   CHECK(std::adjacent_find(steps.begin(), steps.end(), std::greater_equal<long>()) == steps.end());
 }
 
-TEST_CASE("the history takes every n-th step from the first, and the last once", "[app]") {
-  // Reference: README, [output] history_every: rows at steps 1, 1 + n, 1 + 2n, ... and at the
-  // end time, so a plot of the history reaches the run's end, each step once. The test scene:
-  // n = 5; to 4 us it ends at step 119, between two rows' steps; to 3.1 us at step 96, on one
-  // (whose row was written twice up to the thirty-fourth session).
+TEST_CASE("the history takes every n-th step from the start, and the last once", "[app]") {
+  // Reference: README, [output] history_every: rows at steps 0, n, 2n, ... and at the last
+  // budget (the step before the run's last: a step closes the budget of its start), so a plot
+  // of the history reaches the run's end, each step once. Each row's step is its time's (up to
+  // the thirty-seventh session the rows said the step after). The test scene: n = 5; to 4 us
+  // it ends at step 119, its last budget between two rows' steps; to 3.1 us at step 96, on
+  // one (whose row was written twice up to the thirty-fourth session).
   for (const char* end : {"4e-6", "3.1e-6"}) {
     CAPTURE(end);
     const TempFolder dir("history_rows");
@@ -497,9 +500,15 @@ TEST_CASE("the history takes every n-th step from the first, and the last once",
     REQUIRE(((last - 1) % 5 == 0) == (end[0] != '4'));
     REQUIRE(steps.size() >= 5);
     std::vector<long> expected;
-    for (long s = 1; s < last; s += 5) expected.push_back(s);
-    if (expected.back() != last) expected.push_back(last);
+    for (long s = 0; s < last - 1; s += 5) expected.push_back(s);
+    if (expected.back() != last - 1) expected.push_back(last - 1);
     CHECK(steps == expected);
+    // The time of each row is its step's: the series' output at the end time is step `last`,
+    // one dt after the last row.
+    const std::string history = slurp(dir.path / "run" / "history.csv");
+    const std::string last_row = history.substr(history.rfind('\n', history.size() - 2) + 1);
+    const double dt = std::stod(last_row.substr(last_row.find(',', last_row.find(',') + 1) + 1));
+    CHECK(std::stod(last_row) + dt == Approx(std::stod(end)).epsilon(1e-9));
   }
 }
 

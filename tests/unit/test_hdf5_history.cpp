@@ -75,7 +75,8 @@ TEST_CASE("run.h5 holds the metadata and a history table per quantity, read by h
   }
   // Values as written (h5dump prints 17 significant digits of a double: exact round trip).
   REQUIRE(column(h5dump("-m %.17g -d /history/time", file)) == times);
-  REQUIRE(column(h5dump("-d /history/step", file)) == std::vector<double>{1, 2, 3});
+  // each row's step is its time's: the budget at t^n, which step n + 1 closes
+  REQUIRE(column(h5dump("-d /history/step", file)) == std::vector<double>{0, 1, 2});
   const std::string header = h5dump("-H", file);
   for (const char* name : {"kinetic", "internal", "plastic_work", "contact", "eroded",
                            "conversion", "balance_error", "momentum", "projectile_velocity",
@@ -100,7 +101,7 @@ TEST_CASE("run.h5 holds the metadata and a history table per quantity, read by h
     }
     const std::vector<double> t = column(h5dump("-m %.17g -d /history/time", file));
     REQUIRE(t == std::vector<double>{times[0], times[1], model.energy.time});
-    REQUIRE(column(h5dump("-d /history/step", file)) == std::vector<double>{1, 2, 4});
+    REQUIRE(column(h5dump("-d /history/step", file)) == std::vector<double>{0, 1, 3});
   }
   SECTION("a file that is not a run file is refused") {
     const fs::path other = dir.path / "other.h5";
@@ -112,7 +113,8 @@ TEST_CASE("run.h5 holds the metadata and a history table per quantity, read by h
 namespace {
 
 // The values a history row must hold, taken from the model when the row is recorded; counts
-// are counted here, not taken from the counters the writers read.
+// are counted here, not taken from the counters the writers read. The step is the one of the
+// budget's time t^n: the step just taken (from t^n to t^(n+1)) closed it, so the model's less one.
 struct Row {
   double time, dt, kinetic, internal, plastic_work, bulk_viscosity, artificial_viscosity,
       contact, eroded, conversion, total, balance_error, eroded_mass;
@@ -128,7 +130,7 @@ Row rowOf(const Model& m) {
         e.artificial_viscosity, e.contact, e.eroded, e.conversion,
         e.kinetic + e.internal + e.contact + e.eroded + e.conversion,
         std::abs(e.total() - e.initial) / e.initial, m.conversion.eroded_mass, e.momentum,
-        {}, m.step, 0, 0, 0, static_cast<long>(m.particles.size()), m.dt_limiter};
+        {}, m.step - 1, 0, 0, 0, static_cast<long>(m.particles.size()), m.dt_limiter};
   for (std::size_t b = 0; b < m.bodies.size(); ++b)
     r.body_velocity.push_back(bodyMeanVelocity(m, static_cast<int>(b)));
   for (ElemStatus s : m.elems.status) {
@@ -154,7 +156,8 @@ bool printed(double csv, double x) { return std::abs(csv - x) <= 1e-9 * std::abs
 TEST_CASE("every history column, in run.h5 and history.csv, holds what its name says",
           "[unit][hdf5]") {
   // The restart scene with its bodies swapped, so that the projectile is not body 0: rows at
-  // steps 30, 60 and 90, by which time elements have turned into tied particles.
+  // steps 30, 60 and 90 (rows at 29, 59 and 89), by which time elements have turned into tied
+  // particles.
   const std::string path = std::string(FESPH_TEST_DATA_DIR) + "/restart_impact.toml";
   const std::string text = testing::slurp(path);
   const std::size_t b1 = text.find("[[bodies]]"), b2 = text.find("[[bodies]]", b1 + 1),
@@ -175,6 +178,7 @@ TEST_CASE("every history column, in run.h5 and history.csv, holds what its name 
     while (model.step < 90) {
       step(model, scene.controls.end_time);
       if (model.step % 30 != 0) continue;
+      REQUIRE(model.energy.time + model.dt == model.time);  // the budget is one step behind
       h5.record(model);
       csv.record(model);
       rows.push_back(rowOf(model));
