@@ -155,9 +155,9 @@ bool printed(double csv, double x) { return std::abs(csv - x) <= 1e-9 * std::abs
 
 TEST_CASE("every history column, in run.h5 and history.csv, holds what its name says",
           "[unit][hdf5]") {
-  // The restart scene with its bodies swapped, so that the projectile is not body 0: rows at
-  // steps 30, 60 and 90 (rows at 29, 59 and 89), by which time elements have turned into tied
-  // particles.
+  // The restart scene with its bodies swapped, so that the projectile is not body 0: rows
+  // after steps 30, 60 and 90 (the budgets of steps 29, 59 and 89), by which time elements
+  // have turned into tied particles.
   const std::string path = std::string(FESPH_TEST_DATA_DIR) + "/restart_impact.toml";
   const std::string text = testing::slurp(path);
   const std::size_t b1 = text.find("[[bodies]]"), b2 = text.find("[[bodies]]", b1 + 1),
