@@ -798,6 +798,11 @@ void Workbench::probe(const std::vector<std::string>& a) {
               e.kinetic, e.internal, e.plastic_work, e.contact, e.eroded, e.conversion);
   std::printf("                total %.6g of the initial %.6g, balance error %.3g %%\n", e.total(),
               e.initial, 100 * e.balanceError());
+  // The budget at t^n is closed by the step from t^n: say so where it is not now's.
+  if (e.step != m.step)
+    std::printf("                (at t = %.6g s, step %ld: a step closes the budget of its start, "
+                "as in history.csv)\n",
+                e.time, e.step);
 }
 
 void Workbench::checkpoint(const std::vector<std::string>& a) {

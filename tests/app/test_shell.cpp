@@ -405,13 +405,23 @@ TEST_CASE("fesph shell: the run folder's summary says where the run stands and w
   const fs::path out = dir.path / "run";
   // `run to` a time already passed and `run for 0` take no step and say so.
   const Result paused = shell(kScene + " --out " + out.string(),
-                              "step 3\nrun to 1e-9\nrun for 0\nrun to 0.05us\n", dir.path);
+                              "step 6\nprobe\nrun to 1e-9\nrun for 0\nrun to 0.05us\n", dir.path);
   INFO(paused.out);
   CHECK(paused.code == 1);
   CHECK(occurrences(paused.out, "the model is at t = ") == 2);
   CHECK(paused.out.find("run for T: T must be > 0") != std::string::npos);
   CHECK(summaryValue(out, "status") == "\"paused\"");
-  CHECK(summaryValue(out, "steps") == "3");
+  CHECK(summaryValue(out, "steps") == "6");
+  // The probe's energies are the budget of step 5 (the sixth step closed it), and say so:
+  // history.csv's row of step 5 (history_every = 5) holds the same kinetic energy.
+  std::smatch m;
+  REQUIRE(std::regex_search(paused.out, m, std::regex("kinetic ([0-9.e+-]+) ")));
+  const double kinetic = std::stod(m[1]);
+  CHECK(paused.out.find(", step 5: a step closes the budget of its start") != std::string::npos);
+  const std::string history = slurp(out / "history.csv");
+  REQUIRE(std::regex_search(history, m,
+                            std::regex("\n[^,]+,5,[^,]+,([^,]+),")));  // time,step,dt,kinetic
+  CHECK(std::stod(m[1]) == Approx(kinetic).epsilon(1e-5));  // the probe prints 6 digits
 
   const Result complete = shell(kScene + " --out " + out.string(), "run\n", dir.path);
   INFO(complete.out);
@@ -428,7 +438,6 @@ TEST_CASE("fesph shell: the run folder's summary says where the run stands and w
   const std::string time = summaryValue(out, "time");
   REQUIRE(!time.empty());
   CHECK(std::stod(time) > 0);
-  std::smatch m;
   REQUIRE(std::regex_search(failed.out, m,
                             std::regex("the run stopped at t = ([0-9.e+-]+) s, step ([0-9]+):")));
   CHECK(std::stod(m[1]) == Approx(std::stod(time)).epsilon(1e-8));  // 9 digits against 10
