@@ -142,6 +142,18 @@ double at(const std::vector<double>& v, std::size_t k) {
   return k < v.size() ? v[k] : std::nan("");
 }
 
+/// Whether run `r` is of the experiment `ref` (the first run's scene's [reference]): a run is
+/// compared only with the experiment its own scene names. A run of another scene (another
+/// reference, or none) put beside the first showed errors against an experiment it never had.
+bool sameExperiment(const ReportRun& r, const ReferenceData& ref) {
+  return r.scene.reference.source == ref.source && r.scene.reference.experiment == ref.experiment;
+}
+
+/// The experiment's value at plate k for run `r`; NaN (no error shown) for a run of another.
+double experimentFor(const ReportRun& r, const ReferenceData& ref, std::size_t k) {
+  return sameExperiment(r, ref) ? at(ref.experiment, k) : std::nan("");
+}
+
 // Copy a run's images into the report (drawn first when the run has none). Images of another
 // field (`fesph render --field`; holes.json names it, none before it did) are left to the run,
 // and the report draws its own damage views.
@@ -258,12 +270,20 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
       csv << "," << velocity(at(v, k));
     }
     for (const ReportRun& r : runs) {
-      md << " " << velocity(at(r.residual, k)) << " | " << error(at(r.residual, k), exp) << " |";
+      md << " " << velocity(at(r.residual, k)) << " | "
+         << error(at(r.residual, k), experimentFor(r, ref, k)) << " |";
       csv << "," << velocity(at(r.residual, k));
     }
     md << "\n";
     csv << "\n";
   }
+  std::string others;
+  for (const ReportRun& r : runs)
+    if (!sameExperiment(r, ref))
+      others += std::string(others.empty() ? "" : "; ") + r.label + ": \"" + r.scene.title + "\"";
+  if (!others.empty())
+    md << "\nRuns of another scene than the first (their scene's [reference] differs): " << others
+       << ". Their velocities are shown, not compared with this experiment.\n";
 
   // What of the projectile got through each plate: the intact piece against all its material.
   std::ofstream through_csv(out / "through.csv");
@@ -283,7 +303,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
       const double v_all = at(r.through_velocity, k);
       md << "| v" << k + 1 << " | " << r.label << " | " << velocity(at(r.residual, k)) << " | "
          << percent(at(r.piece_fraction, k)) << " | " << velocity(v_all) << " | "
-         << error(v_all, at(ref.experiment, k)) << " | " << percent(at(r.through_fraction, k))
+         << error(v_all, experimentFor(r, ref, k)) << " | " << percent(at(r.through_fraction, k))
          << " |\n";
       through_csv << k + 1 << "," << csvField(r.label) << "," << velocity(at(r.residual, k)) << ","
                   << at(r.piece_fraction, k) << "," << velocity(v_all) << ","
@@ -383,6 +403,13 @@ int reportCommand(const ReportOptions& opt) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
   }
+  for (const ReportRun& r : runs)
+    if (!sameExperiment(r, runs.front().scene.reference))
+      std::fprintf(stderr,
+                   "warning: %s is a run of \"%s\", not of the first run's scene (\"%s\"): its "
+                   "velocities are not compared with that scene's experiment\n",
+                   r.dir.string().c_str(), r.scene.title.c_str(),
+                   runs.front().scene.title.c_str());
   const fs::path out = opt.out.empty() ? runs.front().dir.parent_path() / "report"
                                        : fs::path(opt.out);
   try {

@@ -218,6 +218,22 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   CHECK(csvTable(tmp.path / "rep_more" / "through.csv").back() ==
         std::vector<std::string>{"3", "erosion 0.4 (default, ero)", "900.0", "0.5", "850.0", "0.8"});
 
+  // A run of another experiment (its scene's [reference] another) beside the first: its
+  // velocities without errors against the first's experiment (v1 showed +25.0 % against 800
+  // m/s it was never measured against), and the report says which runs those are.
+  REQUIRE(run("run " + scene.string() + common + (tmp.path / "other").string() +
+              " --set 'reference.experiment=[900.0, 950.0]'") == 0);
+  REQUIRE(run("report " + (tmp.path / "fe").string() + " " + (tmp.path / "other").string() +
+              " --out " + (tmp.path / "rep_other").string()) == 0);
+  const std::string other = read(tmp.path / "rep_other" / "report.md");
+  CHECK(other.find("| v1 | 800.0 | 1000.0 | +25.0 % | 1000.0 | +25.0 % | 1000.0 | - |") !=
+        std::string::npos);
+  CHECK(other.find("| v1 | FE (default, other) | 1000.0 | 100.0 % | 1000.0 | - | 100.0 % |") !=
+        std::string::npos);
+  CHECK(other.find("Runs of another scene than the first (their scene's [reference] differs): "
+                   "FE (default, other): \"report check\".") != std::string::npos);
+  CHECK(md.find("Runs of another scene") == std::string::npos);  // fe and ero: the same
+
   // A folder whose name holds a quote: its CSV fields quoted, the quote doubled.
   const fs::path quoted = tmp.path / "fe \"x\"";
   fs::copy(tmp.path / "fe", quoted, fs::copy_options::recursive);
