@@ -52,8 +52,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);
-    std::printf("  %s: %s, %s (%zu through-holes)\n", p.plate.c_str(), p.front_png.c_str(),
-                p.rear_png.c_str(), p.holes.holes.size());
+    std::printf("  %s: %s, %s (%zu through-hole%s)\n", p.plate.c_str(), p.front_png.c_str(),
+                p.rear_png.c_str(), p.holes.holes.size(), p.holes.holes.size() == 1 ? "" : "s");
   }
   std::printf("  section: %s\n", renderSectionView(run_dir, time, o, out_dir + "/section.png").c_str());
   std::printf("  velocity: %s\n",

@@ -278,9 +278,19 @@ void readReference(const toml::table* t, const std::string& file, Scene& sc) {
                                velocities(v, file, "'" + std::string(k.str()) + "'", plates));
 }
 
+// runs/NAME, NAME the scene file's name, or its folder's for a scene.toml: the shipped
+// scenes are folders holding a scene.toml, and all of them ran into runs/scene, each run
+// replacing the one before.
+std::string defaultRunFolder(const std::string& file) {
+  const fs::path path(file);
+  if (path.filename() != "scene.toml") return "runs/" + path.stem().string();
+  const std::string folder = fs::absolute(path).parent_path().filename().string();
+  return "runs/" + (folder.empty() ? std::string("scene") : folder);
+}
+
 void readOutput(const toml::table* t, const std::string& file, Scene& sc) {
   OutputSpec& o = sc.output;
-  o.folder = "runs/" + fs::path(file).stem().string();
+  o.folder = defaultRunFolder(file);
   o.interval = sc.controls.end_time / 20;
   if (!t) return;
   allowKeys(*t, file,

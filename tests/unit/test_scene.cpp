@@ -466,6 +466,13 @@ normal = [0, 0, 2]
   CHECK(sc.sph.artificial_stress);
   CHECK(sc.sph.dt_factor == 0.4);
   CHECK(sc.output.folder == "runs/defaults");
+  // A scene.toml is named by its folder: every shipped scene is one, and all of them ran into
+  // runs/scene, each run replacing the one before.
+  CHECK(loadScene(std::string(FESPH_SCENES_DIR) + "/single_plate/scene.toml", {}, library())
+            .output.folder == "runs/single_plate");
+  CHECK(loadScene(std::string(FESPH_SCENES_DIR) + "/two_plates_oblique/scene.toml", {},
+                  library())
+            .output.folder == "runs/two_plates_oblique");
   CHECK(sc.output.interval == 1e-6 / 20);  // a twentieth of the end time
   CHECK(sc.output.fields.empty());
   CHECK(sc.output.history_every == 10);
