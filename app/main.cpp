@@ -9,6 +9,7 @@
 #include "app/cli_checks.hpp"
 #include "app/commands.hpp"
 #include "app/shell.hpp"
+#include "render/vtk_errors.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -17,6 +18,7 @@
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress and summary lines appear as they come
+  fesph::quietVtk();  // every VTK failure is reported in fesph's words (vtk_errors.hpp)
   CLI::App app{
       "fesph - explicit FE-SPH simulation of projectiles perforating spaced metal plates.\n"
       "Scenes are TOML files in SI units; see scenes/ and README.md."};

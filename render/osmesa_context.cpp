@@ -4,6 +4,7 @@
 #include "render/osmesa_context.hpp"
 
 #include "core/common/error.hpp"
+#include "render/vtk_errors.hpp"
 
 #include <GL/osmesa.h>
 
@@ -108,9 +109,10 @@ void OffscreenWindow::writePng(const std::string& path) {
   vtkNew<vtkPNGWriter> writer;
   writer->SetInputConnection(grab->GetOutputPort());
   writer->SetFileName(path.c_str());
+  clearVtkError();
   writer->Write();
   if (writer->GetErrorCode() != 0 || !std::filesystem::exists(target))
-    throw RunError("cannot write image " + path);
+    throw RunError(cannotWrite("image " + path, writer->GetErrorCode()));
 }
 
 }  // namespace fesph

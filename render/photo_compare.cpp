@@ -4,6 +4,7 @@
 
 #include "core/common/error.hpp"
 #include "render/plate_images.hpp"
+#include "render/vtk_errors.hpp"
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -49,8 +50,9 @@ void writePng(const std::uint8_t* pixels, int width, int height, int components,
   vtkNew<vtkPNGWriter> writer;
   writer->SetInputData(img);
   writer->SetFileName(path.c_str());
+  clearVtkError();
   writer->Write();
-  if (writer->GetErrorCode() != 0) throw RunError("cannot write " + path);
+  if (writer->GetErrorCode() != 0) throw RunError(cannotWrite(path, writer->GetErrorCode()));
 }
 
 std::uint8_t grey8(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255 + 0.5f); }
@@ -79,13 +81,17 @@ GrayImage readPhoto(const std::string& path) {
   if (!reader)
     throw InputError(path, 0, 0, "not an image format VTK reads (PNG, JPEG, TIFF, BMP, PNM)");
   reader->SetFileName(path.c_str());
+  clearVtkError();
   reader->Update();
   vtkImageData* img = reader->GetOutput();
   int dims[3];
   img->GetDimensions(dims);
   const int nc = img->GetNumberOfScalarComponents();
-  if (reader->GetErrorCode() != 0 || dims[0] < 3 || dims[1] < 3 || nc < 1)
-    throw InputError(path, 0, 0, "cannot read the image");
+  if (reader->GetErrorCode() != 0 || !vtkError().empty() || dims[0] < 3 || dims[1] < 3 || nc < 1) {
+    std::string cause = vtkFailure(reader->GetErrorCode());
+    if (cause.empty()) cause = vtkError();
+    throw InputError(path, 0, 0, "cannot read the image" + (cause.empty() ? "" : ": " + cause));
+  }
   const double full = img->GetScalarTypeMax();
   GrayImage out{dims[0], dims[1], std::vector<float>(static_cast<std::size_t>(dims[0]) * dims[1])};
   for (int j = 0; j < dims[1]; ++j)

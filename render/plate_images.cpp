@@ -7,6 +7,7 @@
 #include "core/common/toml_check.hpp"
 #include "render/osmesa_context.hpp"
 #include "render/series_writer.hpp"
+#include "render/vtk_errors.hpp"
 
 #include <vtkActor.h>
 #include <vtkActor2D.h>
@@ -86,8 +87,10 @@ RunStep readRunStep(const std::string& run_dir, double time) {
   if (vtu.empty()) throw RunError(run_dir + ": no element series (elements.pvd)");
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(vtu.c_str());
+  clearVtkError();
   reader->Update();
-  if (reader->GetErrorCode() != 0) throw RunError("cannot read " + vtu);
+  if (reader->GetErrorCode() != 0 || !vtkError().empty())  // a file cut short sets no code
+    throw RunError(cannotRead(vtu, reader->GetErrorCode()));
   step.elements = reader->GetOutput();
 
   // Particles of the same output step: the .vtp nearest to the element step's time.
@@ -100,8 +103,10 @@ vtkSmartPointer<vtkPolyData> readParticles(const std::string& run_dir, double ti
   if (vtp.empty()) return nullptr;
   vtkNew<vtkXMLPolyDataReader> reader;
   reader->SetFileName(vtp.c_str());
+  clearVtkError();
   reader->Update();
-  if (reader->GetErrorCode() != 0) throw RunError("cannot read " + vtp);
+  if (reader->GetErrorCode() != 0 || !vtkError().empty())
+    throw RunError(cannotRead(vtp, reader->GetErrorCode()));
   return reader->GetOutput();
 }
 

@@ -7,6 +7,7 @@
 #include "core/common/number_text.hpp"
 #include "core/io/replace_file.hpp"
 #include "core/scene/scene.hpp"
+#include "render/vtk_errors.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -101,10 +102,11 @@ void writeXml(vtkXMLWriter& w, const fs::path& target) {
   w.SetHeaderTypeToUInt64();  // block headers safe beyond 4 GiB
   const fs::path tmp = temporaryFor(target.string());
   w.SetFileName(tmp.c_str());
+  clearVtkError();
   if (w.Write() != 1 || w.GetErrorCode() != 0) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw RunError("cannot write " + target.string());
+    throw RunError(cannotWrite(target.string(), w.GetErrorCode()));
   }
   renameInto(tmp.string(), target.string());
 }

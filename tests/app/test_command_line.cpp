@@ -187,6 +187,29 @@ TEST_CASE("fesph render: a field or size given wrong, times too close for six di
   CHECK(has(slurp(dir.path / "precise" / "summary.toml"), "\nstatus = \"complete\"\n"));
 }
 
+TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
+  // VTK's own messages (coloured, time-stamped, a line from each pipeline stage) are kept for
+  // fesph's message instead; the file cut short was read as a series without a "body" array.
+  const TempFolder dir("cut_short");
+  REQUIRE(runTestScene("--end-time 1e-6", dir.path).code == 0);
+  const fs::path last = dir.path / "run" / "elements_000001.vtu";
+  const std::string whole = slurp(last);
+  REQUIRE(whole.size() > 20000);
+  std::ofstream(last, std::ios::trunc) << whole.substr(0, whole.size() / 2);
+  const Result cut = command("render run --size 64x64", dir.path);
+  INFO(cut.out);
+  CHECK(cut.code == 1);
+  CHECK(has(cut.out, "error: cannot read run/elements_000001.vtu: Cannot read "));
+  CHECK(!has(cut.out, "\x1b["));  // no terminal colours
+  CHECK(!has(cut.out, "ERR|"));
+  CHECK(occurrences(cut.out, "\n") == 1);
+  std::ofstream(last, std::ios::trunc) << "not xml\n";
+  const Result garbage = command("render run --size 64x64", dir.path);
+  INFO(garbage.out);
+  CHECK(garbage.code == 1);
+  CHECK(has(garbage.out, "error: cannot read run/elements_000001.vtu: Error parsing XML"));
+}
+
 TEST_CASE("fesph run: an output folder that cannot be made is said before the meshing", "[app]") {
   const TempFolder dir("output_folder");
   fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml", dir.path / "scene.toml");
