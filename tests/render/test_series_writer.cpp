@@ -2,6 +2,7 @@
 // SeriesWriter: writes a 3-step series of a hand-built two-body model and reads it back with
 // VTK's XML reader (live cells only, arrays, exact values, times, .pvd, no temporary files).
 #include "render/series_writer.hpp"
+#include "render/vtk_errors.hpp"
 
 #include "core/state/model_build.hpp"
 #include "tests/support/temp_folder.hpp"
@@ -10,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <vtkCellData.h>
+#include <vtkErrorCode.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
@@ -19,6 +21,7 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <cerrno>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -440,4 +443,19 @@ TEST_CASE("PvdCollection reads a .pvd written elsewhere, attributes by their who
   CHECK(back.entries()[0].file == "y_0.vtu");
   CHECK(back.entries()[1].time == 5e-6);
   CHECK(back.entries()[1].file == "y_1.vtu");
+}
+
+TEST_CASE("a VTK failure's cause reads as words: its error code, or the errno it passes on",
+          "[unit][output]") {
+  // The XML writers pass the system's errno on as their error code (vtkXMLWriter): ENOSPC is
+  // a full disk, which a run writing its series must say (not "VTK error 28").
+  CHECK(fesph::vtkFailure(vtkErrorCode::NoError).empty());
+  CHECK(fesph::vtkFailure(ENOSPC) == "the disk is full");
+  CHECK(fesph::vtkFailure(vtkErrorCode::OutOfDiskSpaceError) == "the disk is full");
+  CHECK(fesph::vtkFailure(EACCES) == "Permission denied");
+  CHECK(fesph::vtkFailure(vtkErrorCode::PrematureEndOfFileError) ==
+        "the file ends early (cut short?)");
+  CHECK(fesph::cannotWrite("a.vtu", ENOSPC) == "cannot write a.vtu: the disk is full");
+  // Without quietVtk no VTK message is kept: the code alone, or nothing more than the file.
+  CHECK(fesph::cannotRead("b.vtu", vtkErrorCode::NoError) == "cannot read b.vtu");
 }
