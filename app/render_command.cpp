@@ -48,7 +48,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   o.field = field;
   fs::create_directories(out_dir);
   const std::vector<PlateImages> plates = renderPlateImages(run_dir, time, o, out_dir);
-  if (!plates.empty()) std::printf("%s", nearestOutputNote(time, plates.front().time, "drawn").c_str());
+  if (!plates.empty())
+    std::printf("%s", nearestOutputNote(time, plates.front().time, "drawn").c_str());
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);

@@ -47,8 +47,12 @@ void allowKeysImpl(const toml::table& t, const std::string& file, const List& al
     (void)v;
     const std::string_view key = k.str();
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    // A suggestion within about a third of the key's letters (two for end_tiem): further
+    // off, 'rho0' became "did you mean 'eos'?" and 'n' "'name'?", so the keys are listed.
     std::string best;
-    std::size_t best_d = 4;
+    const std::size_t reach =
+        std::min<std::size_t>(3, std::max<std::size_t>(1, (key.size() + 1) / 3));
+    std::size_t best_d = reach + 1;
     std::string all;
     for (const auto& a : allowed) {
       const std::size_t d = editDistance(key, a);

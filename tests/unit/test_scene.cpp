@@ -583,6 +583,11 @@ TEST_CASE("each bound of a scene value lies where its message puts it", "[unit][
       // suggestion
       {{"simulation.end_tiem=1e-6"}, "did you mean 'end_time'?"},
       {{"simulation.ebd_tine=1e-6"}, "did you mean 'end_time'?"},
+      // a key far from every one gets the list, not the nearest: 'rho0' was "did you mean
+      // 'eos'?", 'n' "did you mean 'name'?"
+      {{}, "unknown key 'rho0' in material 'A36'; expected one of: name, status, source, density",
+       "[materials.A36]\nrho0 = 7800.0\n"},
+      {{}, "unknown key 'n' in material 'A36'; expected one of:", "[materials.A36]\nn = 0.3\n"},
   };
   for (const Case& c : cases) {
     std::string set;
