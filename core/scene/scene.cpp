@@ -592,11 +592,14 @@ Scene loadSceneText(const std::string& text, const std::string& path,
   } catch (const InputError& e) {
     // A value from --set has no line in the file: name the --set it came from.
     if (e.line() > 0 || e.file() != file) throw;
+    // The key is named before any "; did you mean 'KEY'?": a --set of the key suggested is
+    // not the one at fault.
+    const std::string named = e.message().substr(0, e.message().find("; "));
     std::string from;
     for (const std::string& o : overrides) {
       const std::string key = o.substr(0, o.find('='));
       const std::string last = key.substr(key.rfind('.') + 1);
-      if (e.message().find("'" + last + "'") != std::string::npos) from += " --set " + o;
+      if (named.find("'" + last + "'") != std::string::npos) from += " --set " + o;
     }
     if (from.empty()) throw;
     throw InputError(file, 0, 0, e.message() + " (given by" + from + ")");

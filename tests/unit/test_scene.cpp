@@ -274,6 +274,16 @@ TEST_CASE("scene overrides from the command line are checked like the file", "[u
     REQUIRE(std::string(e.what()).find("(given by --set bodies.bar.shape.length=-1)") !=
             std::string::npos);
   }
+  // A typo'd key beside a --set of the key it was meant to be: the typo alone is named (the
+  // suggestion's 'end_time' named the good --set too).
+  try {
+    loadScene(path, {"simulation.end_time=3e-6", "simulation.end_tme=4e-6"}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(std::string(e.what()).find("(given by --set simulation.end_tme=4e-6)") !=
+          std::string::npos);
+  }
 }
 
 TEST_CASE("the command line end time keeps its precision", "[unit][scene]") {
