@@ -26,6 +26,7 @@
 #include <vtkXMLWriter.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -220,7 +221,11 @@ SeriesWriter::SeriesWriter(fs::path folder, SeriesOptions options)
       particles_(folder_ / "particles.pvd", options.append, options.keep) {}
 
 bool SeriesWriter::wants(const std::string& field) const {
-  return fields_.empty() || std::find(fields_.begin(), fields_.end(), field) != fields_.end();
+  // What fesph's own images read (plates: body and damage; section: plastic strain) is written
+  // whatever the list: a run limited to "pressure" drew no image at its end.
+  static const std::array<std::string, 3> kViews = {"body", "damage", "plastic_strain"};
+  return fields_.empty() || std::find(fields_.begin(), fields_.end(), field) != fields_.end() ||
+         std::find(kViews.begin(), kViews.end(), field) != kViews.end();
 }
 
 void SeriesWriter::write(const Model& model, double time) {
