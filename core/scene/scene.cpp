@@ -258,8 +258,9 @@ std::vector<double> velocities(const toml::node& n, const std::string& file, con
   }
   if (out.size() != plates)
     fail(file, n.source(),
-         what + " has " + std::to_string(out.size()) + " values for " + std::to_string(plates) +
-             " plates");
+         what + " has " + std::to_string(out.size()) + " value" + (out.size() == 1 ? "" : "s") +
+             " for " + std::to_string(plates) + " plate" + (plates == 1 ? "" : "s") +
+             ": one residual velocity in m/s after each plate");
   return out;
 }
 
