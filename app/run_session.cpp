@@ -59,6 +59,7 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
   // folder made here is taken away again if the meshing fails.
   const bool existed = fs::exists(folder());
   makeFolder(folder());
+  lock_.take(folder());  // before the meshing too: another run there is said at once
   if (log) {
     *log << "fesph " << FESPH_VERSION << ": scene " << scene_path << " (" << scene_.title
          << ")\nMeshing " << scene_.bodies.size() << " bodies" << std::endl;
@@ -66,8 +67,12 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
   try {
     model_ = buildModel(scene_, log);
   } catch (...) {
-    std::error_code ec;
-    if (!existed) fs::remove(folder(), ec);  // only if still empty
+    lock_.release();
+    if (!existed) {  // the folder made above, with nothing but the lock in it
+      std::error_code ec;
+      fs::remove(fs::path(folder()) / ".fesph.lock", ec);
+      fs::remove(folder(), ec);  // only if empty now
+    }
     throw;
   }
   crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
@@ -129,6 +134,8 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
   std::error_code ec;
   const bool own =
       out_folder.empty() || fs::equivalent(out_folder, parent.empty() ? "." : parent, ec);
+  makeFolder(folder());
+  lock_.take(folder());
   if (own) {
     refuseToCutLaterCheckpoints(checkpoint);
     refuseAnotherRunsHistory(checkpoint, saved);

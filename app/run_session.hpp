@@ -4,6 +4,7 @@
 // `fesph run` drives it to the end time; an interactive shell can drive it step by step.
 #pragma once
 
+#include "app/folder_lock.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/history_csv.hpp"
 #include "core/io/history_h5.hpp"
@@ -104,6 +105,7 @@ class RunSession {
   void openWriters(bool resume, const RunProgress& progress);
   RunProgress progress() const;
 
+  FolderLock lock_;  ///< the run folder's: first here, so let go after the writers close
   Scene scene_;
   Model model_;
   std::unique_ptr<SeriesWriter> series_;

@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 using fesph::testing::occurrences;
@@ -400,6 +402,48 @@ TEST_CASE("an interrupted run leaves its checkpoint and draws no images", "[app]
   CHECK(has(log, "checkpoint written to"));
   CHECK(has(slurp(run / "summary.toml"), "\nstatus = \"interrupted\"\n"));
   CHECK(!fs::exists(run / "images"));
+}
+
+TEST_CASE("a run into a folder another run is writing in is refused, and that run goes on",
+          "[app]") {
+  // Two runs in one folder (a fesph run and a shell on the same scene, say) replaced each
+  // other's series, histories and checkpoints as they went: files of neither run. The first
+  // holds the folder's lock until it ends, however it ends.
+  const TempFolder dir("locked");
+  const fs::path run = dir.path / "run";
+  const pid_t pid = fesph::testing::startAndWait(
+      std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR +
+          "/shell_scene.toml --end-time 1e-3 --out " + run.string() + " --quiet --no-images > " +
+          (dir.path / "log").string() + " 2>&1",
+      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 4; });
+  REQUIRE(pid > 0);
+  const Result second = runTestScene("--end-time 1e-6", dir.path);
+  const std::string shell_script = (dir.path / "steps.txt").string();
+  std::ofstream(shell_script) << "set simulation.end_time=1e-6\nrun\n";
+  const Result shell = command("shell " + std::string(FESPH_TEST_APP_DIR) +
+                                   "/shell_scene.toml --out run < " + shell_script,
+                               dir.path);
+  // the first run goes on, its series whole: the outputs after the refused runs' end time
+  bool went_on = false;
+  for (int k = 0; k < 400 && !went_on; ++k) {
+    went_on = has(slurp(run / "elements.pvd"), "timestep=\"3e-06\"");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const std::string pvd = slurp(run / "elements.pvd");
+  kill(pid, SIGKILL);  // the lock goes with the process, however it ends
+  waitpid(pid, nullptr, 0);
+  INFO(second.out << "\n----\n" << shell.out << "\n----\n" << pvd);
+  CHECK(went_on);
+  for (const char* t : {"\"0\"", "\"1e-06\"", "\"2e-06\"", "\"3e-06\""})
+    CHECK(occurrences(pvd, std::string("timestep=") + t) == 1);
+  CHECK(second.code == 2);
+  CHECK(has(second.out, "error: another fesph run is writing into run (process " +
+                            std::to_string(pid) + "): two runs in one folder"));
+  CHECK(shell.code == 1);
+  CHECK(has(shell.out, "another fesph run is writing into run (process "));
+  const Result after = runTestScene("--end-time 1e-6", dir.path);
+  INFO(after.out);
+  CHECK(after.code == 0);
 }
 
 TEST_CASE("a failed run keeps the state it stopped in as its last output", "[app]") {
