@@ -24,6 +24,13 @@ int runCommand(const RunOptions& opt) {
     overrides.push_back(std::string("simulation.end_time=") + value);
   }
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  // More threads than cores take turns at every barrier of a step (~25 a step): a run can
+  // take several times as long, with the same results.
+  if (opt.threads > omp_get_num_procs())
+    std::fprintf(stderr,
+                 "warning: --threads %d is more than the %d core%s this run may use: the "
+                 "threads take turns, which is slower (the results are the same)\n",
+                 opt.threads, omp_get_num_procs(), omp_get_num_procs() == 1 ? "" : "s");
   RunSession session;
   try {
     if (!opt.restart.empty())

@@ -187,6 +187,16 @@ TEST_CASE("fesph render: a field or size given wrong, times too close for six di
   // 2, not ctest's OMP_NUM_THREADS=1: --threads is what sets it
   CHECK(has(slurp(dir.path / "precise" / "summary.toml"), "\nthreads = 2\n"));
   CHECK(has(slurp(dir.path / "precise" / "summary.toml"), "\nstatus = \"complete\"\n"));
+  // More threads than the cores the run may use (taskset: one) take turns: a warning, the run
+  // as it would be (the results the same bits for any thread count: test_determinism.cpp).
+  const Result turns = fesph::testing::runCommand(
+      "cd '" + dir.path.string() + "' && taskset -c 0 " + FESPH_BINARY + " run " +
+      FESPH_TEST_APP_DIR + "/shell_scene.toml --end-time 1e-7 --out turns --threads 2 --quiet "
+      "--no-images 2>&1");
+  INFO(turns.out);
+  CHECK(turns.code == 0);
+  CHECK(has(turns.out, "warning: --threads 2 is more than the 1 core this run may use"));
+  CHECK(!has(precise.out, "warning: --threads"));
 }
 
 TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
