@@ -88,8 +88,7 @@ GrayImage readPhoto(const std::string& path) {
   img->GetDimensions(dims);
   const int nc = img->GetNumberOfScalarComponents();
   if (reader->GetErrorCode() != 0 || !vtkError().empty() || dims[0] < 3 || dims[1] < 3 || nc < 1) {
-    std::string cause = vtkFailure(reader->GetErrorCode());
-    if (cause.empty()) cause = vtkError();
+    const std::string cause = vtkCause(reader->GetErrorCode());
     throw InputError(path, 0, 0, "cannot read the image" + (cause.empty() ? "" : ": " + cause));
   }
   const double full = img->GetScalarTypeMax();

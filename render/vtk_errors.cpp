@@ -34,8 +34,7 @@ vtkStandardNewMacro(KeptErrors);
 KeptErrors* g_kept = nullptr;
 
 std::string failed(const char* what, const std::string& path, unsigned long error_code) {
-  std::string cause = vtkFailure(error_code);
-  if (cause.empty()) cause = vtkError();
+  const std::string cause = vtkCause(error_code);
   return std::string(what) + " " + path + (cause.empty() ? "" : ": " + cause);
 }
 
@@ -46,7 +45,8 @@ std::string vtkFailure(unsigned long error_code) {
     case vtkErrorCode::NoError: return "";
     case vtkErrorCode::OutOfDiskSpaceError: return "the disk is full";
     case vtkErrorCode::FileNotFoundError: return "no such file";
-    case vtkErrorCode::CannotOpenFileError: return "cannot open it (no such folder, or no permission)";
+    case vtkErrorCode::CannotOpenFileError:
+      return "cannot open it (no such folder, or no permission)";
     case vtkErrorCode::PrematureEndOfFileError: return "the file ends early (cut short?)";
     case vtkErrorCode::FileFormatError:
     case vtkErrorCode::UnrecognizedFileTypeError: return "not a file of the expected format";
@@ -78,6 +78,11 @@ std::string vtkError() {
   if (at != std::string::npos) text = text.substr(at + 3);
   text = text.substr(0, text.find('\n'));
   return text;
+}
+
+std::string vtkCause(unsigned long error_code) {
+  const std::string cause = vtkFailure(error_code);
+  return cause.empty() ? vtkError() : cause;
 }
 
 std::string cannotWrite(const std::string& path, unsigned long error_code) {

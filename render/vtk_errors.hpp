@@ -21,8 +21,10 @@ void clearVtkError();
 /// empty if none, or without quietVtk.
 std::string vtkError();
 
-/// "cannot write PATH: CAUSE" (or "cannot read ..."): the error code's cause, else the VTK
-/// error kept.
+/// What went wrong: the error code's cause, else the VTK error kept; empty if neither.
+std::string vtkCause(unsigned long error_code);
+
+/// "cannot write PATH: CAUSE" (or "cannot read ..."), CAUSE as vtkCause.
 std::string cannotWrite(const std::string& path, unsigned long error_code);
 std::string cannotRead(const std::string& path, unsigned long error_code);
 

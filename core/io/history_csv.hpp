@@ -32,9 +32,10 @@ class HistoryCsv {
   static std::string row(const std::string& path, std::size_t n);
 
  private:
+  static std::string timeText(double time);  ///< a row's time column
+
   std::string path_;
   std::ofstream out_;
-  static std::string timeText(double time);  ///< a row's time column
   std::string last_row_;
 };
 
