@@ -87,7 +87,8 @@ GrayImage readPhoto(const std::string& path) {
   int dims[3];
   img->GetDimensions(dims);
   const int nc = img->GetNumberOfScalarComponents();
-  if (reader->GetErrorCode() != 0 || !vtkError().empty() || dims[0] < 3 || dims[1] < 3 || nc < 1) {
+  if (reader->GetErrorCode() != 0 || !vtkError().empty() || dims[0] < 3 || dims[1] < 3 ||
+      nc < 1) {
     const std::string cause = vtkCause(reader->GetErrorCode());
     throw InputError(path, 0, 0, "cannot read the image" + (cause.empty() ? "" : ": " + cause));
   }

@@ -421,13 +421,24 @@ TEST_CASE("a run into a folder another run is writing in is refused, and that ru
   // holds the folder's lock until it ends, however it ends.
   const TempFolder dir("locked");
   const fs::path run = dir.path / "run";
+  const auto checkpoint = [&] {  // one of the first run's, once it wrote one
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(run, ec))  // not one being written (.tmp)
+      if (entry.path().filename().string().rfind("checkpoint_", 0) == 0 &&
+          entry.path().extension() == ".h5")
+        return entry.path();
+    return fs::path();
+  };
   const pid_t pid = fesph::testing::startAndWait(
       std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR +
-          "/shell_scene.toml --end-time 1e-3 --out " + run.string() + " --quiet --no-images > " +
-          (dir.path / "log").string() + " 2>&1",
-      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 4; });
+          "/shell_scene.toml --end-time 1e-3 --set output.checkpoint_interval=0.5e-6 "
+          "--set output.checkpoints_kept=100000 --out " +
+          run.string() + " --quiet --no-images > " + (dir.path / "log").string() + " 2>&1",
+      [&] { return !checkpoint().empty(); });
   REQUIRE(pid > 0);
   const Result second = runTestScene("--end-time 1e-6", dir.path);
+  const Result restart =
+      command("run --restart " + checkpoint().string() + " --quiet --no-images", dir.path);
   const std::string shell_script = (dir.path / "steps.txt").string();
   std::ofstream(shell_script) << "set simulation.end_time=1e-6\nrun\n";
   const Result shell = command("shell " + std::string(FESPH_TEST_APP_DIR) +
@@ -451,6 +462,9 @@ TEST_CASE("a run into a folder another run is writing in is refused, and that ru
                             std::to_string(pid) + "): two runs in one folder"));
   CHECK(shell.code == 1);
   CHECK(has(shell.out, "another fesph run is writing into run (process "));
+  INFO(restart.out);
+  CHECK(restart.code == 2);
+  CHECK(has(restart.out, "another fesph run is writing into " + run.string() + " (process "));
   const Result after = runTestScene("--end-time 1e-6", dir.path);
   INFO(after.out);
   CHECK(after.code == 0);
