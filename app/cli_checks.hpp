@@ -47,6 +47,27 @@ inline CLI::Validator openFraction() {
       "NUMBER in (0, 1)");
 }
 
+/// A whole number from `lo` to `hi` (a thread count). CLI11's Range said "Value abc not in
+/// range 1 to 1024" of a word that is no number at all.
+inline CLI::Validator wholeNumber(int lo, int hi) {
+  const std::string expected =
+      "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
+  return CLI::Validator(
+      [lo, hi, expected](std::string& text) -> std::string {
+        std::size_t used = 0;
+        long value = 0;
+        try {
+          value = std::stol(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size() || value < lo || value > hi)
+          return "expected " + expected + ", got '" + text + "'";
+        return "";
+      },
+      "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
 /// A time in s, a scale: a finite number > 0.
 inline CLI::Validator positiveNumber() { return finiteNumber(false); }
 

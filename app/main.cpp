@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--end-time", run.end_time, "End time in s (overrides the scene)")
       ->check(fesph::positiveNumber());
   run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(fesph::wholeNumber(1, 1024));
   run_cmd->add_option("--set", run.overrides,
                       "Override a scene value, e.g. --set simulation.end_time=2e-5 "
                       "--set bodies.0.velocity=[0,0,-200] (repeatable)");

@@ -95,6 +95,14 @@ TEST_CASE("fesph run, render and compare: a scene named from its own folder, and
     CHECK(r.code == 2);
     CHECK(has(r.out, std::string("--end-time: expected a number > 0, got ") + value));
   }
+  // CLI11's Range said "Value abc not in range 1 to 1024" of a word.
+  for (const char* value : {"abc", "0", "2.5", "1025"}) {
+    const Result r = command(std::string("run scene.toml --threads ") + value, dir.path);
+    INFO(r.out);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, std::string("--threads: expected a whole number from 1 to 1024, got '") +
+                         value + "'"));
+  }
 
   // A time between outputs or past the end (typed in us, not s) is drawn at the nearest
   // output, and says so; a negative one is an error (it used to draw the last output).
