@@ -24,7 +24,7 @@ struct Held {
 
 /// The locks this process holds, by folder: a second flock of the same file from another
 /// descriptor would refuse the process its own lock.
-std::map<std::string, Held>& held() {
+std::map<std::string, Held>& heldLocks() {
   static std::map<std::string, Held> locks;
   return locks;
 }
@@ -35,19 +35,38 @@ FolderLock::~FolderLock() { release(); }
 
 void FolderLock::release() {
   if (key_.empty()) return;
-  auto it = held().find(key_);
-  if (it != held().end() && --it->second.users == 0) {
+  auto it = heldLocks().find(key_);
+  if (it != heldLocks().end() && --it->second.users == 0) {
     close(it->second.fd);  // closing the file releases its flock
-    held().erase(it);
+    heldLocks().erase(it);
   }
   key_.clear();
+}
+
+bool FolderLock::held(const std::string& folder) {
+  std::error_code ec;
+  const std::string key = std::filesystem::weakly_canonical(folder, ec).string();
+  if (!ec && heldLocks().count(key)) return true;
+  const std::string path = (std::filesystem::path(folder) / ".fesph.lock").string();
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;  // no lock file: no run of a fesph that locks
+  const bool taken = flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  close(fd);  // releases the shared lock if it got one
+  return taken;
+}
+
+std::string standingStatus(const std::string& folder, const std::string& status) {
+  const std::filesystem::path lock = std::filesystem::path(folder) / ".fesph.lock";
+  if (status != "running" || !std::filesystem::exists(lock) || FolderLock::held(folder))
+    return status;
+  return "ended abruptly (killed or crashed)";
 }
 
 void FolderLock::take(const std::string& folder) {
   const std::string key = std::filesystem::weakly_canonical(folder).string();
   if (key == key_) return;
-  auto it = held().find(key);
-  if (it == held().end()) {
+  auto it = heldLocks().find(key);
+  if (it == heldLocks().end()) {
     const std::string path = (std::filesystem::path(folder) / ".fesph.lock").string();
     const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw RunError("cannot create " + path + ": " + std::strerror(errno));
@@ -66,7 +85,7 @@ void FolderLock::take(const std::string& folder) {
     const std::string who = "process " + std::to_string(getpid());
     const bool noted = ftruncate(fd, 0) == 0 && write(fd, who.data(), who.size()) >= 0;
     (void)noted;
-    it = held().emplace(key, Held{fd, 0}).first;
+    it = heldLocks().emplace(key, Held{fd, 0}).first;
   }
   ++it->second.users;
   release();

@@ -22,8 +22,16 @@ class FolderLock {
   void take(const std::string& folder);
   void release();
 
+  /// Whether a run (of this process or another) holds `folder` now: a summary.toml that
+  /// says "running" of a folder nobody holds is of a run killed before it could say more.
+  static bool held(const std::string& folder);
+
  private:
   std::string key_;  ///< the folder's canonical path; empty: none held
 };
+
+/// A run folder's summary.toml status as it stands now: "running" of a folder that holds the
+/// lock file and no run holds is "ended abruptly (killed or crashed)"; any other as it is.
+std::string standingStatus(const std::string& folder, const std::string& status);
 
 }  // namespace fesph

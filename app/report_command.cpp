@@ -4,6 +4,7 @@
 // (Table 1 of Hu et al. 2015), velocity histories overlaid, wall times, plate images and holes.
 // Everything it shows is read from the run folders; missing images are drawn first.
 #include "app/commands.hpp"
+#include "app/folder_lock.hpp"
 
 #include "core/common/error.hpp"
 #include "core/common/toml_check.hpp"
@@ -328,7 +329,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
                   summaryNumber(r, "steps"), summaryNumber(r, "time"),
                   wall < 100 ? 2 : 0, wall, threads,  // a test run of 0.35 s was "0 s"
                   100 * summaryNumber(r, "energy_balance"),
-                  summaryString(r, "status", "no summary.toml").c_str());
+                  standingStatus(r.dir.string(), summaryString(r, "status", "no summary.toml"))
+                      .c_str());
     md << line;
     runs_csv << csvField(r.label) << "," << csvField(r.dir.string()) << ","
              << csvField(summaryString(r, "conversion_mode", "")) << ","
@@ -336,7 +338,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
              << summaryNumber(r, "elements") << "," << summaryNumber(r, "particles") << ","
              << summaryNumber(r, "steps") << "," << summaryNumber(r, "time") << "," << wall << ","
              << threads << "," << summaryNumber(r, "energy_balance") << ","
-             << csvField(summaryString(r, "status", "")) << "\n";
+             << csvField(standingStatus(r.dir.string(), summaryString(r, "status", ""))) << "\n";
   }
 
   // Half models: no particle may cross a symmetry plane (docs/sph.md, "Symmetry planes"); runs

@@ -4,6 +4,7 @@
 #include "app/shell.hpp"
 
 #include "app/commands.hpp"
+#include "app/folder_lock.hpp"
 #include "app/progress.hpp"
 
 #include "core/analysis/fragments.hpp"
@@ -477,10 +478,35 @@ void Workbench::load(const std::vector<std::string>& a) {
               s.output.interval);
 }
 
+namespace {
+
+/// Where a run folder's run stands, from its summary.toml: ": complete at t = 4e-06 s of
+/// 4e-06 s, step 80"; empty when it has none (a run killed before its first output).
+std::string runStanding(const std::string& dir) {
+  const fs::path file = fs::path(dir) / "summary.toml";
+  if (!fs::exists(file)) return "";
+  try {
+    const toml::table t = tomlcheck::parseFile(file.string());
+    const auto status = t["status"].value<std::string>();
+    const auto time = t["time"].value<double>(), end = t["end_time"].value<double>();
+    const auto steps = t["steps"].value<long>();
+    if (!status || !time || !end || !steps) return "";
+    char text[160];
+    std::snprintf(text, sizeof text, ": %s at t = %.6g s of %.6g s, step %ld",
+                  standingStatus(dir, *status).c_str(), *time, *end, *steps);
+    return text;
+  } catch (const std::exception&) {  // an unreadable summary says nothing here
+    return "";
+  }
+}
+
+}  // namespace
+
 void Workbench::show(const std::vector<std::string>& a) {
   if (a.empty()) {
     if (!scene_path_.empty()) std::printf("scene      %s\n", scene_path_.c_str());
-    if (!run_dir_.empty()) std::printf("run folder %s (no model)\n", run_dir_.c_str());
+    if (!run_dir_.empty()) std::printf("run folder %s (no model)%s\n", run_dir_.c_str(),
+                                       runStanding(run_dir_).c_str());
     if (scene_path_.empty() && run_dir_.empty()) std::printf("nothing loaded\n");
     for (const std::string& o : overrides_) std::printf("changed    %s\n", o.c_str());
     if (session_) {

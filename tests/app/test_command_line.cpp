@@ -459,8 +459,16 @@ TEST_CASE("a run into a folder another run is writing in is refused, and that ru
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   const std::string pvd = slurp(run / "elements.pvd");
+  // A report while it runs says so; after it was killed, that it ended without a word (its
+  // summary still says "running", written at its last output).
+  REQUIRE(command("report run --out report_running", dir.path).code == 0);
   kill(pid, SIGKILL);  // the lock goes with the process, however it ends
   waitpid(pid, nullptr, 0);
+  REQUIRE(command("report run --out report_killed", dir.path).code == 0);
+  CHECK(has(slurp(dir.path / "report_running" / "report.md"), " | running |\n"));
+  CHECK(has(slurp(dir.path / "report_killed" / "report.md"),
+            " | ended abruptly (killed or crashed) |\n"));
+  CHECK(has(slurp(run / "summary.toml"), "\nstatus = \"running\"\n"));
   INFO(second.out << "\n----\n" << shell.out << "\n----\n" << pvd);
   CHECK(went_on);
   for (const char* t : {"\"0\"", "\"1e-06\"", "\"2e-06\"", "\"3e-06\""})

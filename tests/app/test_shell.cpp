@@ -442,6 +442,13 @@ TEST_CASE("fesph shell: the run folder's summary says where the run stands and w
                             std::regex("the run stopped at t = ([0-9.e+-]+) s, step ([0-9]+):")));
   CHECK(std::stod(m[1]) == Approx(std::stod(time)).epsilon(1e-8));  // 9 digits against 10
   CHECK(m[2] == summaryValue(out, "steps"));
+  // The folder loaded again says where its run stands.
+  const Result shown = shell("", "load " + out.string() + "\nshow\n", dir.path);
+  INFO(shown.out);
+  CHECK(shown.out.find("run folder " + out.string() + " (no model): failed at t = ") !=
+        std::string::npos);
+  CHECK(shown.out.find(" of 4e-06 s, step " + summaryValue(out, "steps") + "\n") !=
+        std::string::npos);
 }
 
 TEST_CASE("fesph shell: going back past a later checkpoint is refused, --out goes on elsewhere",
