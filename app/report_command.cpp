@@ -132,7 +132,12 @@ std::string velocity(double v) {
 }
 
 // Error against the experiment, (simulation - experiment) / experiment in %.
+/// A reference's velocity in the report: 0 is a projectile that stopped in the plate.
+std::string referenceVelocity(double v) { return v == 0 ? "0 (stopped)" : velocity(v); }
+
 std::string error(double sim, double exp) {
+  // The test stopped in this plate: a run through it has no error to give, but must say so.
+  if (exp == 0) return std::isfinite(sim) && sim > 0 ? "through (stopped in the test)" : "-";
   if (!std::isfinite(sim) || !std::isfinite(exp)) return "-";
   char s[32];
   std::snprintf(s, sizeof s, "%+.1f %%", 100 * (sim - exp) / exp);
@@ -254,7 +259,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
         "speed of the projectile's largest intact piece of elements at the first instant its "
         "leading node reaches the plane one clear gap behind the plate's rear face (the front "
         "face of the next plate; a virtual next plate at the same gap after the last one). "
-        "Errors are (value - experiment) / experiment.\n\n";
+        "Errors are (value - experiment) / experiment; a reference's 0 is a projectile that "
+        "stopped in the plate.\n\n";
   if (!ref.source.empty()) md << "Reference: " << ref.source << ".\n\n";
   md << "| plate | experiment |";
   for (const auto& [label, v] : ref.published) md << " " << label << " | error |";
@@ -264,10 +270,10 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   md << "\n";
   for (std::size_t k = 0; k < plates; ++k) {
     const double exp = at(ref.experiment, k);
-    md << "| v" << k + 1 << " | " << velocity(exp) << " |";
+    md << "| v" << k + 1 << " | " << referenceVelocity(exp) << " |";
     csv << k + 1 << "," << velocity(exp);
     for (const auto& [label, v] : ref.published) {
-      md << " " << velocity(at(v, k)) << " | " << error(at(v, k), exp) << " |";
+      md << " " << referenceVelocity(at(v, k)) << " | " << error(at(v, k), exp) << " |";
       csv << "," << velocity(at(v, k));
     }
     for (const ReportRun& r : runs) {

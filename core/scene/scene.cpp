@@ -245,15 +245,20 @@ void readSph(const toml::table* t, const std::string& file, Scene& sc) {
   if (c.dt_factor > 1) fail(file, where(*t, "dt_factor"), "'dt_factor' must be in (0, 1]");
 }
 
-// A list of residual velocities, one per plate, each a positive number.
+// A list of residual velocities, one per plate, each a number >= 0: 0 where the projectile
+// stopped in the plate (a shot that perforated only the first plates), and after it.
 std::vector<double> velocities(const toml::node& n, const std::string& file, const std::string& what,
                                std::size_t plates) {
   const toml::array* a = n.as_array();
   if (!a) fail(file, n.source(), what + " must be an array of velocities in m/s, one per plate");
   std::vector<double> out;
   for (const toml::node& v : *a) {
-    if (!v.is_number() || !(numberValue(v) > 0))
-      fail(file, v.source(), what + ": expected a positive velocity in m/s");
+    if (!v.is_number() || !(numberValue(v) >= 0) || !std::isfinite(numberValue(v)))
+      fail(file, v.source(),
+           what + ": expected a velocity >= 0 in m/s (0: the projectile stopped in that plate)");
+    if (!out.empty() && out.back() == 0 && numberValue(v) > 0)
+      fail(file, v.source(),
+           what + ": a velocity after a 0 (the projectile stopped in the plate before)");
     out.push_back(numberValue(v));
   }
   if (out.size() != plates)

@@ -234,6 +234,19 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
                    "FE (default, other): \"report check\".") != std::string::npos);
   CHECK(md.find("Runs of another scene") == std::string::npos);  // fe and ero: the same
 
+  // A test that stopped in the second plate (its 0): the run through it has no error there,
+  // and says so; a velocity after a stop is refused.
+  REQUIRE(run("run " + scene.string() + common + (tmp.path / "stopped").string() +
+              " --set 'reference.experiment=[800.0, 0.0]'") == 0);
+  REQUIRE(run("report " + (tmp.path / "stopped").string() + " --out " +
+              (tmp.path / "rep_stopped").string()) == 0);
+  const std::string stopped = read(tmp.path / "rep_stopped" / "report.md");
+  CHECK(stopped.find("| v2 | 0 (stopped) | 1000.0 | through (stopped in the test) | 1000.0 | "
+                     "through (stopped in the test) |") != std::string::npos);
+  CHECK(read(tmp.path / "rep_stopped" / "table1.csv").find("\n2,0.0,") != std::string::npos);
+  CHECK(run("run " + scene.string() + common + (tmp.path / "after_stop").string() +
+            " --set 'reference.experiment=[0.0, 800.0]'") == 2);
+
   // A folder whose name holds a quote: its CSV fields quoted, the quote doubled.
   const fs::path quoted = tmp.path / "fe \"x\"";
   fs::copy(tmp.path / "fe", quoted, fs::copy_options::recursive);

@@ -595,6 +595,10 @@ TEST_CASE("each bound of a scene value lies where its message puts it", "[unit][
       {{"simulation.ebd_tine=1e-6"}, "did you mean 'end_time'?"},
       {{}, "'experiment' has 2 values for 1 plate: one residual velocity in m/s after each plate",
        "[reference]\nexperiment = [900.0, 800.0]\n"},
+      // 0: the projectile stopped in the plate (a test that perforated only the first plates)
+      {{}, "", "[reference]\nexperiment = [0.0]\n"},
+      {{}, "'experiment': expected a velocity >= 0 in m/s (0: the projectile stopped in that plate)",
+       "[reference]\nexperiment = [-1.0]\n"},
       // a key far from every one gets the list, not the nearest: 'rho0' was "did you mean
       // 'eos'?", 'n' "did you mean 'name'?"
       {{}, "unknown key 'rho0' in material 'A36'; expected one of: name, status, source, density",
