@@ -62,7 +62,8 @@ std::string csvField(const std::string& text) {
 
 struct ReportRun {
   fs::path dir;
-  std::string label;            ///< e.g. "FE-SPH 0.4 (quick)"
+  std::string kind;             ///< e.g. "FE-SPH 0.4"
+  std::string label;            ///< e.g. "FE-SPH 0.4 (quick, main)": kind, resolution, folder
   Scene scene;                  ///< the scene as run
   toml::table summary;          ///< summary.toml (empty when the run wrote none)
   std::vector<double> residual; ///< after each plate, m/s; NaN: not measured
@@ -103,7 +104,8 @@ ReportRun readRun(const fs::path& dir) {
     std::snprintf(label, sizeof label, "erosion %.2g", c.plastic_strain);
   else
     std::snprintf(label, sizeof label, "FE");
-  r.label = std::string(label) + " (" + r.scene.resolution + ", " + dir.filename().string() + ")";
+  r.kind = label;
+  r.label = r.kind + " (" + r.scene.resolution + ", " + dir.filename().string() + ")";
   for (const CsvRow& row : readCsv(dir / "residual_velocities.csv")) {
     auto number = [&](const char* key) {  // NaN: not measured (or a column older runs lack)
       const auto it = row.find(key);
@@ -403,10 +405,36 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
 
 }  // namespace
 
+/// Runs whose labels are alike (folders of one name in different places: a/quick, b/quick)
+/// are told apart by more of their paths; the same folder twice is bad input.
+void distinctLabels(std::vector<ReportRun>& runs) {
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (runs[i].dir == runs[j].dir)
+        throw InputError(runs[i].dir.string(), 0, 0, "this run folder is given twice");
+  for (int depth = 2; depth < 64; ++depth) {
+    bool alike = false;
+    for (std::size_t i = 0; i < runs.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (runs[i].label == runs[j].label) {
+          alike = true;
+          for (ReportRun* r : {&runs[i], &runs[j]}) {
+            fs::path shown;  // the folder's last `depth` parts
+            fs::path d = r->dir;
+            for (int k = 0; k < depth && !d.filename().empty(); ++k, d = d.parent_path())
+              shown = shown.empty() ? d.filename() : d.filename() / shown;
+            r->label = r->kind + " (" + r->scene.resolution + ", " + shown.string() + ")";
+          }
+        }
+    if (!alike) return;
+  }
+}
+
 int reportCommand(const ReportOptions& opt) {
   std::vector<ReportRun> runs;
   try {
     for (const std::string& dir : opt.run_dirs) runs.push_back(readRun(folder(dir)));
+    distinctLabels(runs);
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;

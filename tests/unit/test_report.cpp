@@ -256,8 +256,20 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   CHECK(quoted_runs[1][0] == "FE (default, fe \"x\")");
   CHECK(quoted_runs[1][1] == quoted.string());
 
-  // A folder that is not a run is bad input.
+  // A folder that is not a run is bad input, and so is one run given twice (its columns
+  // came twice). Runs in folders of one name elsewhere are told apart by their parents.
   CHECK(run("report " + tmp.path.string()) == 2);
+  CHECK(run("report " + (tmp.path / "fe").string() + " " + (tmp.path / "fe").string() + "/ --out " +
+            (tmp.path / "rep_twice").string()) == 2);
+  fs::create_directories(tmp.path / "elsewhere");
+  fs::copy(tmp.path / "fe", tmp.path / "elsewhere" / "fe", fs::copy_options::recursive);
+  REQUIRE(run("report " + (tmp.path / "fe").string() + " " +
+              (tmp.path / "elsewhere" / "fe").string() + " --out " +
+              (tmp.path / "rep_alike").string()) == 0);
+  const std::string alike = read(tmp.path / "rep_alike" / "report.md");
+  CHECK(alike.find("| FE (default, " + tmp.path.filename().string() + "/fe) |") !=
+        std::string::npos);
+  CHECK(alike.find("| FE (default, elsewhere/fe) |") != std::string::npos);
 }
 
 TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]") {
