@@ -314,8 +314,9 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "T in s, or with a unit: 5e-6, 5us, 0.01ms. Output is written at the scene's interval.\n"
        "The run stops at the first step that reaches T: steps are not shortened to land on it,\n"
        "so a run paused and continued takes the same steps as one run straight through.\n"
+       "A time already passed is refused (going back: `restart` a checkpoint).\n"
        "Ctrl-C pauses the run after the current step and returns to the prompt; `run` or `step`\n"
-       "continues from there.",
+       "continues from there. summary.toml then says paused, complete or failed.",
        &Workbench::run},
       {"step", "step [N]", "advance N steps (default 1)", "Ctrl-C pauses, as for run.",
        &Workbench::stepN},
@@ -330,7 +331,8 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "Per projectile: mean velocity, centre of mass, nose (its most advanced point along the\n"
        "flight), residual velocity of the largest intact piece and how far its leading node is\n"
        "from the next plate's measuring plane. Then element, node and particle\n"
-       "counts and the energy budget.",
+       "counts and the energy budget: the one the last step closed, at the step before (a\n"
+       "step closes the budget of its start), as history.csv labels it.",
        &Workbench::probe},
       {"compare", "compare --image PHOTO --mm-per-px S [--plate N] [...]",
        "holes in a photograph of the tested plate against the plate now",
