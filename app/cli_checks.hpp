@@ -7,14 +7,20 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 namespace fesph {
 
-/// `text` read whole as a number into `value`; false when it is not one (or has more after it).
-inline bool readNumber(const std::string& text, double& value) {
+/// `text` read whole as a number into `value` (a double, or a whole number into a long);
+/// false when it is not one (or has more after it).
+template <class T> bool readNumber(const std::string& text, T& value) {
+  static_assert(std::is_same_v<T, double> || std::is_same_v<T, long>);
   std::size_t used = 0;
   try {
-    value = std::stod(text, &used);
+    if constexpr (std::is_same_v<T, long>)
+      value = std::stol(text, &used);
+    else
+      value = std::stod(text, &used);
   } catch (const std::exception&) {
     return false;
   }
@@ -54,14 +60,8 @@ inline CLI::Validator wholeNumber(int lo, int hi) {
       "a whole number from " + std::to_string(lo) + " to " + std::to_string(hi);
   return CLI::Validator(
       [lo, hi, expected](std::string& text) -> std::string {
-        std::size_t used = 0;
         long value = 0;
-        try {
-          value = std::stol(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != text.size() || value < lo || value > hi)
+        if (!readNumber(text, value) || value < lo || value > hi)
           return "expected " + expected + ", got '" + text + "'";
         return "";
       },

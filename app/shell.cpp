@@ -3,6 +3,7 @@
 // run itself is a RunSession, driven in pieces.
 #include "app/shell.hpp"
 
+#include "app/cli_checks.hpp"
 #include "app/commands.hpp"
 #include "app/folder_lock.hpp"
 #include "app/progress.hpp"
@@ -659,15 +660,8 @@ void Workbench::run(const std::vector<std::string>& a) {
 void Workbench::stepN(const std::vector<std::string>& a) {
   long n = 1;
   if (a.size() > 1) throw UsageError("usage: step [N]");
-  if (a.size() == 1) {
-    std::size_t used = 0;
-    try {
-      n = std::stol(a[0], &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != a[0].size() || n < 1) throw UsageError("step N: N must be a whole number >= 1");
-  }
+  if (a.size() == 1 && (!readNumber(a[0], n) || n < 1))
+    throw UsageError("step N: N must be a whole number >= 1");
   advance(1e300, n);
 }
 

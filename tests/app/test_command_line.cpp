@@ -410,13 +410,10 @@ TEST_CASE("an interrupted run leaves its checkpoint and draws no images", "[app]
           (dir.path / "log").string() + " 2>&1",
       [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 4; });
   REQUIRE(pid > 0);
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
+  const int code = fesph::testing::signalAndWait(pid, SIGINT);
   const std::string log = slurp(dir.path / "log");
   INFO(log);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 1);
+  CHECK(code == 1);
   CHECK(has(log, "checkpoint written to"));
   CHECK(has(slurp(run / "summary.toml"), "\nstatus = \"interrupted\"\n"));
   CHECK(!fs::exists(run / "images"));
@@ -462,8 +459,8 @@ TEST_CASE("a run into a folder another run is writing in is refused, and that ru
   // A report while it runs says so; after it was killed, that it ended without a word (its
   // summary still says "running", written at its last output).
   REQUIRE(command("report run --out report_running", dir.path).code == 0);
-  kill(pid, SIGKILL);  // the lock goes with the process, however it ends
-  waitpid(pid, nullptr, 0);
+  // the lock goes with the process, however it ends
+  REQUIRE(fesph::testing::signalAndWait(pid, SIGKILL) == -1);
   REQUIRE(command("report run --out report_killed", dir.path).code == 0);
   CHECK(has(slurp(dir.path / "report_running" / "report.md"), " | running |\n"));
   CHECK(has(slurp(dir.path / "report_killed" / "report.md"),

@@ -3,6 +3,7 @@
 // drive the fesph binary.
 #pragma once
 
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -40,6 +41,15 @@ template <class Ready> pid_t startAndWait(const std::string& command, Ready read
   for (int k = 0; pid > 0 && k < 400 && !ready(); ++k)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   return pid;
+}
+
+/// Sends `signal` to `pid` and waits for it to end: its exit code, or -1 when a signal ended
+/// it (SIGKILL always does).
+inline int signalAndWait(pid_t pid, int signal) {
+  kill(pid, signal);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace fesph::testing

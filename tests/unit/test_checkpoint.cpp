@@ -784,13 +784,10 @@ TEST_CASE("fesph run --restart continues the series and histories, also after a 
     return countOf(slurp(cut / "history.csv"), "\n") >= 8;
   });
   REQUIRE(pid > 0);
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
+  const int code = testing::signalAndWait(pid, SIGINT);
   const std::string log = slurp(dir.path / "cut.log");
   INFO(log);
-  REQUIRE(WIFEXITED(status));
-  REQUIRE(WEXITSTATUS(status) == 1);
+  REQUIRE(code == 1);
   REQUIRE(log.find("interrupted (Interrupt)") != std::string::npos);
   const std::vector<std::string> cut_ckpts = listCheckpoints(cut.string());
   REQUIRE(!cut_ckpts.empty());
@@ -827,10 +824,7 @@ TEST_CASE("a run killed outright leaves a summary that says how far it got", "[u
       runCmd(sceneRun(out, "--set output.interval=0.25e-6"), dir.path / "log"),
       [&] { return countOf(slurp(out / "elements.pvd"), "<DataSet") >= 3; });
   REQUIRE(pid > 0);
-  kill(pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  REQUIRE(WIFSIGNALED(status));
+  REQUIRE(testing::signalAndWait(pid, SIGKILL) == -1);  // ended by the signal
   const std::string pvd = slurp(out / "elements.pvd");
   std::vector<double> times;
   for (std::size_t at = pvd.find("timestep=\""); at != std::string::npos;

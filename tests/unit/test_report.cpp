@@ -116,11 +116,18 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   std::ofstream(scene) << kScene;
   const std::string common = " --materials " + std::string(FESPH_SCENES_DIR) +
                              "/materials.toml --threads 1 --quiet --no-images --out ";
-  REQUIRE(run("run " + scene.string() + common + (tmp.path / "fe").string()) == 0);
-  REQUIRE(run("run " + scene.string() + common + (tmp.path / "ero").string() +
-              " --set conversion.mode='\"erosion\"'") == 0);
-  REQUIRE(run("report " + (tmp.path / "fe").string() + " " + (tmp.path / "ero").string() +
-              " --out " + (tmp.path / "rep").string()) == 0);
+  // fesph run of the scene into tmp/NAME with `options`; fesph report of runs in tmp into tmp/OUT
+  const auto runScene = [&](const std::string& name, const std::string& options) {
+    return run("run " + scene.string() + common + (tmp.path / name).string() + " " + options);
+  };
+  const auto report = [&](const std::vector<std::string>& names, const std::string& out) {
+    std::string folders;
+    for (const std::string& n : names) folders += (tmp.path / n).string() + " ";
+    return run("report " + folders + "--out " + (tmp.path / out).string());
+  };
+  REQUIRE(runScene("fe", "") == 0);
+  REQUIRE(runScene("ero", "--set conversion.mode='\"erosion\"'") == 0);
+  REQUIRE(report({"fe", "ero"}, "rep") == 0);
 
   const std::string md = read(tmp.path / "rep" / "report.md");
   // Table 1: experiment, the published code, both runs, errors (value - exp) / exp.
@@ -173,8 +180,7 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // user's as they are.
   REQUIRE(run("render " + (tmp.path / "fe").string() + " --field plastic_strain --size 64x64") ==
           0);
-  REQUIRE(run("report " + (tmp.path / "fe").string() + " --out " +
-              (tmp.path / "rep_field").string()) == 0);
+  REQUIRE(report({"fe"}, "rep_field") == 0);
   CHECK(read(tmp.path / "rep_field" / "run1" / "holes.json").find("\"field\": \"damage\"") !=
         std::string::npos);
   CHECK(read(tmp.path / "fe" / "images" / "holes.json").find("\"field\": \"plastic_strain\"") !=
@@ -184,8 +190,7 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   CHECK(read(tmp.path / "fe" / "summary.toml").find("across_symmetry") == std::string::npos);
   // A half model's summary counts its particles across the plane (none), and a run with some
   // (one of a fesph before the mirror images) gets the warning in the report.
-  REQUIRE(run("run " + scene.string() + common + (tmp.path / "half").string() +
-              " --set simulation.symmetry='\"half\"'") == 0);
+  REQUIRE(runScene("half", "--set simulation.symmetry='\"half\"'") == 0);
   const std::string half = read(tmp.path / "half" / "summary.toml");
   CHECK(half.find("particles_across_symmetry = 0\n") != std::string::npos);
   {
@@ -197,8 +202,7 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
               "particle_mass_fraction_across_symmetry = 0.25\n";
     std::ofstream(tmp.path / "half" / "summary.toml") << edited;
   }
-  REQUIRE(run("report " + (tmp.path / "half").string() + " --out " +
-              (tmp.path / "rep_half").string()) == 0);
+  REQUIRE(report({"half"}, "rep_half") == 0);
   CHECK(read(tmp.path / "rep_half" / "report.md")
             .find("1 particle (0.002 kg, 25.0 % of the particles' mass) is across the "
                   "symmetry plane") != std::string::npos);
@@ -221,10 +225,8 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // A run of another experiment (its scene's [reference] another) beside the first: its
   // velocities without errors against the first's experiment (v1 showed +25.0 % against 800
   // m/s it was never measured against), and the report says which runs those are.
-  REQUIRE(run("run " + scene.string() + common + (tmp.path / "other").string() +
-              " --set 'reference.experiment=[900.0, 950.0]'") == 0);
-  REQUIRE(run("report " + (tmp.path / "fe").string() + " " + (tmp.path / "other").string() +
-              " --out " + (tmp.path / "rep_other").string()) == 0);
+  REQUIRE(runScene("other", "--set 'reference.experiment=[900.0, 950.0]'") == 0);
+  REQUIRE(report({"fe", "other"}, "rep_other") == 0);
   const std::string other = read(tmp.path / "rep_other" / "report.md");
   CHECK(other.find("| v1 | 800.0 | 1000.0 | +25.0 % | 1000.0 | +25.0 % | 1000.0 | - |") !=
         std::string::npos);
@@ -236,16 +238,13 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
 
   // A test that stopped in the second plate (its 0): the run through it has no error there,
   // and says so; a velocity after a stop is refused.
-  REQUIRE(run("run " + scene.string() + common + (tmp.path / "stopped").string() +
-              " --set 'reference.experiment=[800.0, 0.0]'") == 0);
-  REQUIRE(run("report " + (tmp.path / "stopped").string() + " --out " +
-              (tmp.path / "rep_stopped").string()) == 0);
+  REQUIRE(runScene("stopped", "--set 'reference.experiment=[800.0, 0.0]'") == 0);
+  REQUIRE(report({"stopped"}, "rep_stopped") == 0);
   const std::string stopped = read(tmp.path / "rep_stopped" / "report.md");
   CHECK(stopped.find("| v2 | 0 (stopped) | 1000.0 | through (stopped in the test) | 1000.0 | "
                      "through (stopped in the test) |") != std::string::npos);
   CHECK(read(tmp.path / "rep_stopped" / "table1.csv").find("\n2,0.0,") != std::string::npos);
-  CHECK(run("run " + scene.string() + common + (tmp.path / "after_stop").string() +
-            " --set 'reference.experiment=[0.0, 800.0]'") == 2);
+  CHECK(runScene("after_stop", "--set 'reference.experiment=[0.0, 800.0]'") == 2);
 
   // A folder whose name holds a quote: its CSV fields quoted, the quote doubled.
   const fs::path quoted = tmp.path / "fe \"x\"";
@@ -259,13 +258,10 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // A folder that is not a run is bad input, and so is one run given twice (its columns
   // came twice). Runs in folders of one name elsewhere are told apart by their parents.
   CHECK(run("report " + tmp.path.string()) == 2);
-  CHECK(run("report " + (tmp.path / "fe").string() + " " + (tmp.path / "fe").string() + "/ --out " +
-            (tmp.path / "rep_twice").string()) == 2);
+  CHECK(report({"fe", "fe/"}, "rep_twice") == 2);
   fs::create_directories(tmp.path / "elsewhere");
   fs::copy(tmp.path / "fe", tmp.path / "elsewhere" / "fe", fs::copy_options::recursive);
-  REQUIRE(run("report " + (tmp.path / "fe").string() + " " +
-              (tmp.path / "elsewhere" / "fe").string() + " --out " +
-              (tmp.path / "rep_alike").string()) == 0);
+  REQUIRE(report({"fe", "elsewhere/fe"}, "rep_alike") == 0);
   const std::string alike = read(tmp.path / "rep_alike" / "report.md");
   CHECK(alike.find("| FE (default, " + tmp.path.filename().string() + "/fe) |") !=
         std::string::npos);
