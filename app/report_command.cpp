@@ -193,7 +193,7 @@ std::vector<std::string> plateImages(const ReportRun& r, const fs::path& out, in
   return copied;
 }
 
-// The heaviest clumps of free particles that would strike a plate (debris.csv, written with
+// The clumps of free particles that would strike a plate, most kinetic energy first (debris.csv, written with
 // the images; core/analysis/debris.hpp).
 void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
   if (clumps.empty()) return;
@@ -201,8 +201,14 @@ void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
   std::vector<const CsvRow*> striking;
   for (const CsvRow& c : clumps)
     if (!c.at("strikes").empty()) striking.push_back(&c);
-  std::stable_sort(striking.begin(), striking.end(), [](const CsvRow* a, const CsvRow* b) {
-    return std::stod(a->at("full_mass_kg")) > std::stod(b->at("full_mass_kg"));
+  // Ranked by kinetic energy, what a fragment's threat to the next plate scales with: a heavy
+  // clump that barely drifts matters less than a light one at a few hundred m/s.
+  const auto energy = [](const CsvRow& c) {
+    const double v = std::stod(c.at("speed_m_s"));
+    return 0.5 * std::stod(c.at("full_mass_kg")) * v * v;
+  };
+  std::stable_sort(striking.begin(), striking.end(), [&](const CsvRow* a, const CsvRow* b) {
+    return energy(*a) > energy(*b);
   });
   md << "\nDebris at t = " << clumps.front().at("time_s") << " s: " << clumps.size()
      << " clumps of two or more free particles (linked within 1.5 times the sum of their "
@@ -212,16 +218,18 @@ void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
     md << ".\n";
     return;
   }
-  md << "; the heaviest " << std::min(kShown, striking.size()) << " of those (mass in the full "
-     << "model: a clump on a half model's plane counts twice):\n\n"
-     << "| from | particles | mass (g) | speed (m/s) | damage | strikes | at (ms) | where x, y "
-        "(mm) | normal speed (m/s) |\n|---|---|---|---|---|---|---|---|---|\n";
+  md << "; the " << std::min(kShown, striking.size()) << " of those with the most kinetic "
+     << "energy (mass and energy in the full model: a clump on a half model's plane counts "
+        "twice):\n\n"
+     << "| from | particles | mass (g) | speed (m/s) | energy (J) | damage | strikes | at (ms) | "
+        "where x, y (mm) | normal speed (m/s) |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < std::min(kShown, striking.size()); ++k) {
     const CsvRow& c = *striking[k];
     char line[512];
-    std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.0f | %.2f | %s | %.2f | %.0f, %.0f | %.0f |\n",
+    std::snprintf(line, sizeof line,
+                  "| %s | %s | %.3g | %.0f | %.3g | %.2f | %s | %.2f | %.0f, %.0f | %.0f |\n",
                   c.at("body").c_str(), c.at("particles").c_str(),
-                  1e3 * std::stod(c.at("full_mass_kg")), std::stod(c.at("speed_m_s")),
+                  1e3 * std::stod(c.at("full_mass_kg")), std::stod(c.at("speed_m_s")), energy(c),
                   std::stod(c.at("damage")), c.at("strikes").c_str(),
                   1e3 * std::stod(c.at("strike_time_s")), 1e3 * std::stod(c.at("strike_x_m")),
                   1e3 * std::stod(c.at("strike_y_m")),

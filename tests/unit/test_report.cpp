@@ -271,7 +271,7 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
 TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]") {
   // A small impact with conversion: its images include debris.csv, which the report copies and
   // sums up. The table of striking clumps is then checked on a debris.csv with known rows
-  // (the heaviest striking clump first, masses in grams of the full model).
+  // (the striking clump with the most kinetic energy first, masses in grams of the full model).
   fesph::testing::TempFolder tmp("report_debris");
   const fs::path dir = tmp.path / "impact";
   REQUIRE(run("run " + std::string(FESPH_TEST_DATA_DIR) + "/restart_impact.toml --materials " +
@@ -295,17 +295,24 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
          "1e-3,plate_1,2,20,0.001,0.002,400,0,0,-400,0.2,0,0.1,0.8,0.001,5,1,plate_2,2.5e-4,"
          "1.25e-3,0.2,0,0,400\n"
          "1e-3,plate_1,3,30,0.0015,0.0015,350,0,0,-350,0.3,0.1,0.1,0.7,0.001,5,0,plate_2,"
-         "2.8e-4,1.28e-3,0.3,0.1,0,350\n";
+         "2.8e-4,1.28e-3,0.3,0.1,0,350\n"
+         "1e-3,plate_1,4,80,0.004,0.004,50,0,0,-50,0.1,0.1,0.1,0.6,0.002,5,0,plate_2,"
+         "2e-3,3e-3,0.1,0.1,0,50\n";
   REQUIRE(run("report " + dir.string() + " --out " + (tmp.path / "rep2").string()) == 0);
   const std::string md = read(tmp.path / "rep2" / "report.md");
   INFO(md);
-  CHECK(md.find("3 clumps of two or more free particles (linked within 1.5 times the sum of "
-                "their radii), 2 of them on a straight course") != std::string::npos);
-  const std::size_t first = md.find("| plate_1 | 20 | 2.0 | 400 | 0.80 | plate_2 | 1.25 | 200, 0 | 400 |");
-  const std::size_t second = md.find("| plate_1 | 30 | 1.5 | 350 | 0.70 | plate_2 | 1.28 | 300, 100 | 350 |");
+  CHECK(md.find("4 clumps of two or more free particles (linked within 1.5 times the sum of "
+                "their radii), 3 of them on a straight course") != std::string::npos);
+  // Most kinetic energy first (1/2 m v^2: 160, 91.9 and 5 J), not heaviest first: the 4 g
+  // clump drifting at 50 m/s comes last.
+  const std::size_t first = md.find("| plate_1 | 20 | 2 | 400 | 160 | 0.80 | plate_2 | 1.25 | 200, 0 | 400 |");
+  const std::size_t second = md.find("| plate_1 | 30 | 1.5 | 350 | 91.9 | 0.70 | plate_2 | 1.28 | 300, 100 | 350 |");
+  const std::size_t third = md.find("| plate_1 | 80 | 4 | 50 | 5 | 0.60 | plate_2 | 3.00 | 100, 100 | 50 |");
   CHECK(first != std::string::npos);
   CHECK(second != std::string::npos);
+  CHECK(third != std::string::npos);
   CHECK(first < second);
+  CHECK(second < third);
 
   // The holes table in mm^2 and mm, from a holes.csv with known rows (a 4 mm hole).
   std::ofstream(dir / "images" / "holes.csv")
