@@ -27,6 +27,10 @@ struct RunOptions {
 
 int runCommand(const RunOptions& opt);
 
+/// Sets the OpenMP threads of the runs to come (`threads` > 0; 0 keeps the default: all cores),
+/// with a warning on stderr when they are more than the cores the process may use.
+void useThreads(int threads);
+
 struct RenderOptions {
   std::string run_dir;
   std::vector<double> times;  ///< output times to draw; empty: the last one

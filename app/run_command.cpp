@@ -16,6 +16,17 @@
 
 namespace fesph {
 
+void useThreads(int threads) {
+  if (threads > 0) omp_set_num_threads(threads);
+  // More threads than cores take turns at every barrier of a step (~25 a step): a run can
+  // take several times as long, with the same results.
+  if (threads > omp_get_num_procs())
+    std::fprintf(stderr,
+                 "warning: --threads %d is more than the %d core%s this run may use: the "
+                 "threads take turns, which is slower (the results are the same)\n",
+                 threads, omp_get_num_procs(), omp_get_num_procs() == 1 ? "" : "s");
+}
+
 int runCommand(const RunOptions& opt) {
   std::vector<std::string> overrides = opt.overrides;
   if (opt.end_time > 0) {
@@ -23,14 +34,7 @@ int runCommand(const RunOptions& opt) {
     std::snprintf(value, sizeof value, "%.17g", opt.end_time);
     overrides.push_back(std::string("simulation.end_time=") + value);
   }
-  if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  // More threads than cores take turns at every barrier of a step (~25 a step): a run can
-  // take several times as long, with the same results.
-  if (opt.threads > omp_get_num_procs())
-    std::fprintf(stderr,
-                 "warning: --threads %d is more than the %d core%s this run may use: the "
-                 "threads take turns, which is slower (the results are the same)\n",
-                 opt.threads, omp_get_num_procs(), omp_get_num_procs() == 1 ? "" : "s");
+  useThreads(opt.threads);
   RunSession session;
   try {
     if (!opt.restart.empty())

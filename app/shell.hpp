@@ -19,6 +19,7 @@ struct ShellOptions {
   std::string out;                     ///< output folder of runs (default: the scene's)
   std::string materials;               ///< material library (default: found from the scene)
   std::vector<std::string> overrides;  ///< --set key=value given on the command line
+  int threads = 0;                     ///< OpenMP threads of its runs; 0: the default
 };
 
 class Workbench {

@@ -2,6 +2,7 @@
 // The line loop of `fesph shell`: GNU readline (history, tab completion) on a terminal, plain
 // lines without prompt or echo from a script or a pipe. Ctrl-C pauses a run (the workbench's
 // stop flag); at the prompt it clears the line.
+#include "app/commands.hpp"
 #include "app/shell.hpp"
 
 #include <readline/history.h>
@@ -65,6 +66,7 @@ std::string historyFile() {
 }  // namespace
 
 int shellCommand(const ShellOptions& options) {
+  useThreads(options.threads);
   const bool interactive = isatty(STDIN_FILENO) && isatty(STDOUT_FILENO);
   Workbench bench(options, &g_stop, interactive);
   g_bench = &bench;

@@ -423,10 +423,18 @@ TEST_CASE("fesph shell: the run folder's summary says where the run stands and w
                             std::regex("\n[^,]+,5,[^,]+,([^,]+),")));  // time,step,dt,kinetic
   CHECK(std::stod(m[1]) == Approx(kinetic).epsilon(1e-5));  // the probe prints 6 digits
 
-  const Result complete = shell(kScene + " --out " + out.string(), "run\n", dir.path);
+  // --threads as fesph run's (the shell had none: its runs took every core).
+  const Result complete =
+      shell(kScene + " --out " + out.string() + " --threads 1", "run\n", dir.path);
   INFO(complete.out);
   CHECK(complete.code == 0);
   CHECK(summaryValue(out, "status") == "\"complete\"");
+  CHECK(summaryValue(out, "threads") == "1");
+  const Result no_threads = shell(kScene + " --threads 0", "run\n", dir.path);
+  INFO(no_threads.out);
+  CHECK(no_threads.code == 2);
+  CHECK(no_threads.out.find("--threads: expected a whole number from 1 to 1024, got '0'") !=
+        std::string::npos);
 
   // A time step floor the impact crosses after a few steps: the message gives the time it
   // stopped at (it said "t = 0.000001 s" for 5.35e-7 s), the summary the same time.
