@@ -530,11 +530,15 @@ void readSceneTables(const toml::table& root, const std::string& file,
     SceneBody b = readBody(*bt, file, sc);
     if (!names.insert(b.name).second)
       fail(file, where(*bt, "name"), "a body named '" + b.name + "' already exists");
-    if (!lib.contains(b.material)) {
+    // A material of the library, or one the scene defines whole under [materials.ID]: a
+    // scene then carries its own material and runs the same wherever it is copied.
+    if (!lib.contains(b.material) &&
+        !(overrides_tbl && overrides_tbl->get_as<toml::table>(b.material))) {
       std::string all;
       for (const auto& id : lib.ids()) all += (all.empty() ? "" : ", ") + id;
       fail(file, where(*bt, "material"),
-           "unknown material '" + b.material + "' (library " + lib_path + " has: " + all + ")");
+           "unknown material '" + b.material + "': not defined in the scene as [materials." +
+               b.material + "], and the library " + lib_path + " has only: " + all);
     }
     if (std::find(material_ids.begin(), material_ids.end(), b.material) == material_ids.end())
       material_ids.push_back(b.material);
@@ -550,7 +554,8 @@ void readSceneTables(const toml::table& root, const std::string& file,
   }
   for (const std::string& id : material_ids) {
     const toml::table* over = overrides_tbl ? table(*overrides_tbl, id, file) : nullptr;
-    sc.materials.push_back(over ? parseMaterial(*over, file, lib.get(id), id) : lib.get(id));
+    const Material base = lib.contains(id) ? lib.get(id) : Material{};  // none: every key needed
+    sc.materials.push_back(over ? parseMaterial(*over, file, base, id) : base);
   }
   sc.material_ids = material_ids;
 

@@ -106,6 +106,73 @@ TEST_CASE("an unknown material is an error at its line", "[unit][scene]") {
   REQUIRE(runCli(path) == 2);
 }
 
+TEST_CASE("a scene defines a material of its own, every required key at its line",
+          "[unit][scene]") {
+  // A material the library does not have, written whole in the scene (it was refused as an
+  // unknown material: a scene could only change the library's). Its provenance is required
+  // as in the library.
+  const std::string aluminium = R"(
+[materials.my_aluminium]
+status = "assumption"
+source = "a handbook's 6061-T6 set, as the user's own"
+density = 2700.0
+youngs_modulus = 70e9
+poisson_ratio = 0.33
+[materials.my_aluminium.johnson_cook]
+A = 265e6
+B = 426e6
+n = 0.34
+C = 0.015
+m = 1.0
+[materials.my_aluminium.eos]
+type = "mie_gruneisen"
+c0 = 5240.0
+s = 1.4
+gamma0 = 1.97
+)";
+  const std::string text = replace(kGoodScene, "steel_4340", "my_aluminium") + aluminium;
+  const Scene sc = loadScene(writeScene("own_material.toml", text), {}, library());
+  REQUIRE(sc.materials.size() == 1);
+  const Material& m = sc.materials[0];
+  CHECK(m.name == "my_aluminium");
+  CHECK(m.rho0 == 2700.0);
+  CHECK(m.E == 70e9);
+  CHECK(m.A == 265e6);
+  CHECK(m.eos == EosModel::MieGruneisen);
+  CHECK(m.c0 == 5240.0);
+  // G from E and nu (what finaliseMaterial adds to every material).
+  CHECK(m.G == Approx(70e9 / (2 * 1.33)).epsilon(1e-12));
+  // The optional keys take the defaults a new library material takes.
+  CHECK(m.T_room == Material{}.T_room);
+  CHECK(m.taylor_quinney == Material{}.taylor_quinney);
+
+  // A required key left out is named, at the material's table (line 14: [materials.my_aluminium]).
+  const std::string path =
+      writeScene("own_material_short.toml", replace(text, "youngs_modulus = 70e9\n", ""));
+  try {
+    loadScene(path, {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.line() == 14);
+    CHECK(std::string(e.what()).find("youngs_modulus") != std::string::npos);
+  }
+  REQUIRE(runCli(path) == 2);
+  // A body's material neither in the library nor in the scene says where it was looked for.
+  try {
+    loadScene(writeScene("own_material_typo.toml",
+                         replace(text, "material = \"my_aluminium\"", "material = \"my_aluminum\"")),
+              {}, library());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.line() == 6);
+    CHECK(std::string(e.what()).find("unknown material 'my_aluminum': not defined in the scene "
+                                     "as [materials.my_aluminum], and the library ") !=
+          std::string::npos);
+  }
+}
+
 TEST_CASE("a negative density is rejected before any work", "[unit][scene]") {
   const std::string path = writeScene(
       "density.toml", std::string(kGoodScene) + "[materials.steel_4340]\ndensity = -7850.0\n");
