@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -423,13 +424,15 @@ TEST_CASE("fesph shell: the run folder's summary says where the run stands and w
                             std::regex("\n[^,]+,5,[^,]+,([^,]+),")));  // time,step,dt,kinetic
   CHECK(std::stod(m[1]) == Approx(kinetic).epsilon(1e-5));  // the probe prints 6 digits
 
-  // --threads as fesph run's (the shell had none: its runs took every core).
+  // --threads as fesph run's (the shell had none: its runs took every core). One thread is
+  // the default here (as under ctest), so 2 comes from the option.
+  setenv("OMP_NUM_THREADS", "1", 1);
   const Result complete =
-      shell(kScene + " --out " + out.string() + " --threads 1", "run\n", dir.path);
+      shell(kScene + " --out " + out.string() + " --threads 2", "run\n", dir.path);
   INFO(complete.out);
   CHECK(complete.code == 0);
   CHECK(summaryValue(out, "status") == "\"complete\"");
-  CHECK(summaryValue(out, "threads") == "1");
+  CHECK(summaryValue(out, "threads") == "2");
   const Result no_threads = shell(kScene + " --threads 0", "run\n", dir.path);
   INFO(no_threads.out);
   CHECK(no_threads.code == 2);
