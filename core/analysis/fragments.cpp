@@ -2,6 +2,7 @@
 #include "core/analysis/fragments.hpp"
 
 #include "core/common/union_find.hpp"
+#include "core/state/model_build.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -40,7 +41,10 @@ std::vector<Piece> bodyPieces(const Model& model, int body) {
     p.centroid += nd.m[a] * nd.x[a];
     p.nodes.push_back(static_cast<int>(a));
   }
-  for (Piece& p : pieces) p.velocity /= p.mass, p.centroid /= p.mass;
+  for (Piece& p : pieces) {
+    p.velocity = wholeVelocity(model, p.nodes, p.velocity / p.mass);
+    p.centroid /= p.mass;
+  }
   std::stable_sort(pieces.begin(), pieces.end(),
                    [](const Piece& a, const Piece& b) { return a.mass > b.mass; });
   return pieces;

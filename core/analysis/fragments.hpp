@@ -12,7 +12,7 @@ namespace fesph {
 /// A connected set of live elements of one body (elements sharing a node are connected).
 struct Piece {
   double mass = 0;              ///< kg, lumped masses of its nodes
-  Vec3 velocity = Vec3::Zero();  ///< mass-weighted mean velocity of its nodes, m/s
+  Vec3 velocity = Vec3::Zero();  ///< mass-weighted mean velocity of its nodes (wholeVelocity), m/s
   Vec3 centroid = Vec3::Zero();  ///< mass-weighted mean position, m
   std::vector<int> nodes;       ///< node ids, ascending
 };

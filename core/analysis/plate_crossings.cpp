@@ -3,6 +3,7 @@
 
 #include "core/analysis/fragments.hpp"
 #include "core/io/replace_file.hpp"
+#include "core/state/model_build.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -42,7 +43,7 @@ MaterialPast materialPast(const Model& model, const PlateCrossing& p, int body, 
   const Particles& pa = model.particles;
   for (std::size_t i = 0; i < pa.size(); ++i)
     if (pa.body[i] == body) add(pa.x[i], pa.v[i], pa.m[i]);
-  if (out.mass > 0) out.velocity = momentum / out.mass;
+  if (out.mass > 0) out.velocity = wholeBodyVelocity(model, body, momentum / out.mass);
   return out;
 }
 
@@ -91,9 +92,9 @@ std::vector<MaterialRegion> materialByRegion(const Model& model,
   }
   for (std::size_t r = 0; r < regions.size(); ++r) {
     MaterialRegion& g = regions[r];
-    if (g.nodes.mass > 0) g.nodes.velocity = p_node[r] / g.nodes.mass;
+    if (g.nodes.mass > 0) g.nodes.velocity = wholeBodyVelocity(model, body, p_node[r] / g.nodes.mass);
     if (g.particles.mass > 0) {
-      g.particles.velocity = p_particle[r] / g.particles.mass;
+      g.particles.velocity = wholeBodyVelocity(model, body, p_particle[r] / g.particles.mass);
       g.particle_offset /= g.particles.mass;
     }
   }

@@ -16,6 +16,10 @@
 // projectile goes on; this says how much momentum the plate took from the projectile's mass.
 // When the projectile breaks up the two differ: its converted nose and debris travel slower
 // than its intact rear.
+//
+// In a half model both are the full projectile's: the mirrored half cancels the velocity
+// normal to the symmetry plane (wholeVelocity, model_build.hpp), which the half alone has
+// wherever the impact pushes its material away from the plane.
 #pragma once
 
 #include "core/common/types.hpp"

@@ -4,6 +4,8 @@
 #include "core/common/error.hpp"
 #include "core/contact/surfaces.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace fesph {
@@ -147,7 +149,39 @@ Vec3 bodyMeanVelocity(const Model& model, int body) {
     p += pa.m[i] * pa.v[i];
     m += pa.m[i];
   }
-  return m > 0 ? Vec3(p / m) : Vec3::Zero();
+  return m > 0 ? wholeBodyVelocity(model, body, p / m) : Vec3::Zero();
+}
+
+namespace {
+
+// Held on the plane normal to `axis` by its symmetry condition (a node held in every
+// direction, a fixed rim, may lie anywhere).
+bool heldOnPlane(const Nodes& nd, std::size_t a, int axis) {
+  return (nd.fix[a] >> axis & 1u) && nd.fix[a] != 0b111;
+}
+
+}  // namespace
+
+Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v) {
+  for (const SymmetryPlane& s : model.symmetry)
+    if (std::any_of(nodes.begin(), nodes.end(),
+                    [&](int a) { return heldOnPlane(model.nodes, a, s.axis); }))
+      v[s.axis] = 0;
+  return v;
+}
+
+Vec3 wholeBodyVelocity(const Model& model, int body, Vec3 v) {
+  const Body& b = model.bodies[body];
+  const Particles& pa = model.particles;
+  for (const SymmetryPlane& s : model.symmetry) {
+    bool cut = false;
+    for (std::size_t a = b.node_begin; a < b.node_end && !cut; ++a)
+      cut = heldOnPlane(model.nodes, a, s.axis);
+    for (std::size_t i = 0; i < pa.size() && !cut; ++i)
+      cut = pa.body[i] == body && std::abs(pa.x[i][s.axis] - s.position) < pa.h[i];
+    if (cut) v[s.axis] = 0;
+  }
+  return v;
 }
 
 double bodyMass(const Model& model, int body) {

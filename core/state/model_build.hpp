@@ -28,8 +28,18 @@ std::size_t appendParticle(Particles& pa, const Vec3& x, const Vec3& v, double m
                            double d0, double h, const PointState& st, int body, int material,
                            int parent);
 
-/// Mass-weighted mean velocity of a body's active nodes and particles, m/s.
+/// Mass-weighted mean velocity of a body's active nodes and particles, m/s: that of the whole
+/// body a half (or quarter) model's body stands for (wholeVelocity).
 Vec3 bodyMeanVelocity(const Model& model, int body);
+
+/// The velocity `v` of a part of a model with symmetry planes as the velocity of the whole it
+/// stands for. A part a plane cuts is half of a part of the full model whose other half is its
+/// mirror image, so its velocity normal to that plane cancels; a part off the plane has a twin
+/// of its own and keeps `v`. A plane cuts the part when it holds one of the part's nodes
+/// (`nodes`), or, for a body, one of its nodes or a particle of it lies within its smoothing
+/// length of the plane (its mirror image is its neighbour).
+Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v);
+Vec3 wholeBodyVelocity(const Model& model, int body, Vec3 v);
 
 /// Mass of a body's active nodes and particles, kg.
 double bodyMass(const Model& model, int body);

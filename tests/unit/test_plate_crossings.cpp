@@ -362,3 +362,81 @@ TEST_CASE("the body's material by region: before, in and between the plates, and
   }
   CHECK(with_particles >= 2);  // the converted half spans more than one region
 }
+
+TEST_CASE("a half model's velocities are the full body's: its mirror image cancels the "
+          "velocity normal to the plane",
+          "[unit][analysis]") {
+  // A shot whose material splays out from its axis, v = (50, 200 y / R, -1000) m/s: mirror
+  // symmetric about y = 0, so the full shot's mean velocity is (50, 0, -1000). Its half on
+  // y >= 0 alone moves at 200 * 4 / (3 pi) = 85 m/s along +y, which the residual velocity,
+  // the histories and the summary counted (the main job's v1 by ~1 m/s).
+  const std::string text = std::string(R"(title = "splay"
+[simulation]
+end_time = 1e-6
+SYMMETRY
+[[bodies]]
+name = "shot"
+material = "steel_4340"
+projectile = true
+DISCRETISATION
+[bodies.shape]
+type = "projectile"
+diameter = 8e-3
+length = 8e-3
+mesh_size = 1e-3
+)");
+  const auto model = [&](const char* folder, bool half, bool particles) {
+    std::string t = text;
+    t.replace(t.find("SYMMETRY"), 8, half ? "symmetry = \"half\"" : "");
+    t.replace(t.find("DISCRETISATION"), 14, particles ? "discretisation = \"sph\"" : "");
+    Model m = buildModel(crossingsScene(folder, t));
+    const auto splay = [](const Vec3& x) { return Vec3(50, 200 * x.y() / 4e-3, -1000); };
+    for (std::size_t a = 0; a < m.nodes.size(); ++a) m.nodes.v[a] = splay(m.nodes.x[a]);
+    for (std::size_t i = 0; i < m.particles.size(); ++i) m.particles.v[i] = splay(m.particles.x[i]);
+    return m;
+  };
+  const Model full = model("fesph_splay_full", false, false);
+  const Model half = model("fesph_splay_half", true, false);
+  const Vec3 v_full = bodyMeanVelocity(full, 0);
+  CHECK(std::abs(v_full.y()) < 0.5);  // the full mesh is symmetric to its discretisation
+  const Vec3 v_half = bodyMeanVelocity(half, 0);
+  CHECK(v_half.y() == 0.0);
+  CHECK((v_half - v_full).norm() < 0.5);
+  CHECK(v_half.x() == Approx(50).epsilon(1e-12));
+
+  // The largest piece (the whole shot) and the material past a plane: the same.
+  const ResidualVelocity r = residualVelocity(half, 0);
+  CHECK(r.velocity.y() == 0.0);
+  CHECK(r.speed == Approx(std::hypot(50.0, 1000.0)).epsilon(1e-12));
+  PlateCrossing plane;
+  plane.front = Vec3(0, 0, 20e-3);
+  const MaterialPast past = materialPast(half, plane, 0, 1e-3);
+  REQUIRE(past.mass > 0);
+  CHECK(past.velocity.y() == 0.0);
+  // A part off the plane has a twin of its own in the full model: its velocity is its own.
+  const Piece whole = bodyPieces(half, 0).front();
+  std::vector<int> off_plane;
+  Vec3 p = Vec3::Zero();
+  double mass = 0;
+  for (int a : whole.nodes)
+    if (half.nodes.x[a].y() > 1e-3) off_plane.push_back(a), p += half.nodes.m[a] * half.nodes.v[a],
+                                    mass += half.nodes.m[a];
+  REQUIRE(!off_plane.empty());
+  CHECK(wholeVelocity(half, off_plane, p / mass).y() == Approx(p.y() / mass).epsilon(1e-15));
+  CHECK(p.y() / mass > 100);
+  // A node held in every direction (a fixed rim) may lie anywhere: it does not put its part
+  // on the plane.
+  Model held = half;
+  held.nodes.fix[off_plane[0]] = 0b111;
+  CHECK(wholeVelocity(held, {off_plane[0]}, Vec3(0, 7, 0)).y() == 7.0);
+
+  // A body of particles from the start (no nodes): its particles next to the plane say it is cut.
+  const Model sph = model("fesph_splay_sph", true, true);
+  REQUIRE(sph.particles.size() > 0);
+  double vy = 0, m_sph = 0;
+  for (std::size_t i = 0; i < sph.particles.size(); ++i)
+    vy += sph.particles.m[i] * sph.particles.v[i].y(), m_sph += sph.particles.m[i];
+  CHECK(vy / m_sph > 50);
+  CHECK(bodyMeanVelocity(sph, 0).y() == 0.0);
+  CHECK(bodyMeanVelocity(sph, 0).z() == Approx(-1000).epsilon(1e-12));
+}
