@@ -398,12 +398,14 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
     if (holes.empty())
       md << "\nNo through-holes.\n";
     else
-      md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) |\n|---|---|---|---|\n";
-    for (const CsvRow& h : holes) {
+      md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) | centre x, y, z (mm) "
+            "|\n|---|---|---|---|---|\n";
+    for (const CsvRow& h : holes) {  // the centre tells a fragment's hole from the projectile's
       char line[256];
-      std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.2f |\n", h.at("plate").c_str(),
-                    h.at("hole").c_str(), 1e6 * std::stod(h.at("area_m2")),
-                    1e3 * std::stod(h.at("diameter_m")));
+      std::snprintf(line, sizeof line, "| %s | %s | %.1f | %.2f | %.1f, %.1f, %.1f |\n",
+                    h.at("plate").c_str(), h.at("hole").c_str(), 1e6 * std::stod(h.at("area_m2")),
+                    1e3 * std::stod(h.at("diameter_m")), 1e3 * std::stod(h.at("centroid_x_m")),
+                    1e3 * std::stod(h.at("centroid_y_m")), 1e3 * std::stod(h.at("centroid_z_m")));
       md << line;
     }
     debrisSection(copied / "debris.csv", md);

@@ -314,13 +314,17 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
   CHECK(first < second);
   CHECK(second < third);
 
-  // The holes table in mm^2 and mm, from a holes.csv with known rows (a 4 mm hole).
+  // The holes table in mm^2 and mm, from a holes.csv with known rows (a 4 mm hole, and a
+  // fragment's 125 mm beside it, told apart by their centres).
   std::ofstream(dir / "images" / "holes.csv")
       << "plate,hole,area_m2,diameter_m,centroid_x_m,centroid_y_m,centroid_z_m,on_symmetry\n"
-         "plate_2,1,1.2566e-05,0.004,0,0,-0.01,0\n";
+         "plate_2,1,1.2566e-05,0.004,0,0,-0.01,0\n"
+         "plate_2,2,7.0686e-06,0.003,0.125,0.0204,-0.01,0\n";
   REQUIRE(run("report " + dir.string() + " --out " + (tmp.path / "rep_holes").string()) == 0);
-  CHECK(read(tmp.path / "rep_holes" / "report.md").find("| plate_2 | 1 | 12.6 | 4.00 |") !=
-        std::string::npos);
+  const std::string holes_md = read(tmp.path / "rep_holes" / "report.md");
+  INFO(holes_md);
+  CHECK(holes_md.find("| plate_2 | 1 | 12.6 | 4.00 | 0.0, 0.0, -10.0 |") != std::string::npos);
+  CHECK(holes_md.find("| plate_2 | 2 | 7.1 | 3.00 | 125.0, 20.4, -10.0 |") != std::string::npos);
 
   // A table that is not fesph's (a hand-edited number) is an error naming it, not a crash.
   std::ofstream(dir / "images" / "debris.csv")
