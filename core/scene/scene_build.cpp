@@ -35,14 +35,64 @@ void fixPlateRim(Model& model, int body, const TetMesh& mesh, const PlateSpec& p
   }
 }
 
+// How far off a symmetry plane a point still lies on it, relative to the model's size: nodes
+// meshed on the plane sit on it to round-off.
+double planeTolerance(const Model& model) {
+  double extent = 0;
+  for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
+  for (const Vec3& x : model.particles.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
+  return 1e-9 * std::max(extent, 1e-3);
+}
+
+// A model with a symmetry plane is the part of the full model on one side of it. A body
+// meshed whole (a full .msh in a half model) or bodies on both sides would be mirrored onto
+// themselves or each other: refused, naming the body and how far it reaches.
+void checkOneSide(const Scene& sc, const Model& model, const SymmetryPlane& s) {
+  const double tol = planeTolerance(model);
+  const char axis = static_cast<char>('x' + s.axis);
+  int side_body = -1, side = 0;  // the first body off the plane, and its side
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const Body& body = model.bodies[b];
+    double lo = 0, hi = 0;
+    for (std::size_t a = body.node_begin; a < body.node_end; ++a) {
+      lo = std::min(lo, model.nodes.x[a][s.axis] - s.position);
+      hi = std::max(hi, model.nodes.x[a][s.axis] - s.position);
+    }
+    for (std::size_t i = 0; i < model.particles.size(); ++i)
+      if (model.particles.body[i] == static_cast<int>(b)) {
+        lo = std::min(lo, model.particles.x[i][s.axis] - s.position);
+        hi = std::max(hi, model.particles.x[i][s.axis] - s.position);
+      }
+    char reach[128];
+    std::snprintf(reach, sizeof reach, "%c = %.4g to %.4g mm", axis, 1e3 * (s.position + lo),
+                  1e3 * (s.position + hi));
+    char plane[48];
+    std::snprintf(plane, sizeof plane, "%c = %.4g mm", axis, 1e3 * s.position);
+    const SceneBody& sb = sc.bodies[b];
+    if (lo < -tol && hi > tol)
+      throw InputError(sc.path, sb.line, 0,
+                       "body '" + sb.name + "' lies on both sides of the symmetry plane " + plane +
+                           " (" + reach + "): a model with a symmetry plane holds only the " +
+                           "part on one side of it, so mesh that part only");
+    const int this_side = lo < -tol ? -1 : hi > tol ? 1 : 0;
+    if (this_side == 0) continue;
+    if (side != 0 && this_side != side) {
+      const SceneBody& other = sc.bodies[static_cast<std::size_t>(side_body)];
+      throw InputError(sc.path, sb.line, 0,
+                       "bodies '" + other.name + "' (line " + std::to_string(other.line) +
+                           ") and '" + sb.name + "' lie on opposite sides of the symmetry plane " +
+                           plane + " (" + sb.name + ": " + reach +
+                           "): a model with a symmetry plane holds only the part on one side");
+    }
+    if (side == 0) side = this_side, side_body = static_cast<int>(b);
+  }
+}
+
 }  // namespace
 
 void addSymmetryPlane(Model& model, const SymmetryPlane& s) {
   model.symmetry.push_back(s);
-  // Tolerance relative to the model's size: nodes meshed on the plane sit on it to round-off.
-  double extent = 0;
-  for (const Vec3& x : model.nodes.x) extent = std::max(extent, x.cwiseAbs().maxCoeff());
-  const double tol = 1e-9 * std::max(extent, 1e-3);
+  const double tol = planeTolerance(model);
   for (std::size_t a = 0; a < model.nodes.size(); ++a)
     if (std::abs(model.nodes.x[a][s.axis] - s.position) < tol)
       model.nodes.fix[a] |= static_cast<std::uint8_t>(1u << s.axis);
@@ -93,7 +143,10 @@ Model buildModel(const Scene& sc, std::ostream* log) {
       }
     }
   }
-  for (const SymmetryPlane& s : sc.symmetry) addSymmetryPlane(model, s);
+  for (const SymmetryPlane& s : sc.symmetry) {
+    checkOneSide(sc, model, s);
+    addSymmetryPlane(model, s);
+  }
   finaliseModel(model);
   if (const auto o = findInitialOverlap(model)) {
     const SceneBody& inner = sc.bodies[static_cast<std::size_t>(o->inner)];

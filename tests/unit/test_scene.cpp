@@ -290,6 +290,50 @@ TEST_CASE("bodies that overlap at the start are refused with their lines", "[uni
   REQUIRE(runCli(path) == 2);
 }
 
+TEST_CASE("a model with a symmetry plane holds only bodies on one side of it", "[unit][scene]") {
+  // A body meshed whole in a half model (a full .msh with symmetry = "half") was taken as it
+  // was: its nodes on the plane held there inside the body, its mass counted once more by
+  // the mirror image. The bar (diameter 4 mm about x = 0) against planes normal to x.
+  const auto withPlane = [](const std::string& position, const std::string& more = "") {
+    return std::string(kGoodScene) + more + "[[boundary]]\ntype = \"symmetry\"\naxis = \"x\"\n" +
+           "position = " + position + "\n";
+  };
+  REQUIRE_NOTHROW(buildModel(loadScene(writeScene("side.toml", withPlane("-3e-3")), {}, library())));
+  const std::string across = writeScene("across.toml", withPlane("1e-3"));
+  try {
+    buildModel(loadScene(across, {}, library()));
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.file() == across);
+    CHECK(e.line() == 4);  // the bar's [[bodies]]
+    CHECK(e.message().find("body 'bar' lies on both sides of the symmetry plane x = 1 mm (x = -2") ==
+          0);
+  }
+  REQUIRE(runCli(across) == 2);
+  // A second bar 10 mm along -x: the plane at x = -5 mm has one bar on either side.
+  const std::string second = R"([[bodies]]
+name = "second"
+material = "steel_4340"
+position = [-10e-3, 0, 0]
+[bodies.shape]
+type = "projectile"
+diameter = 4e-3
+length = 8e-3
+mesh_size = 2e-3
+)";
+  const std::string apart = writeScene("apart_sides.toml", withPlane("-5e-3", second));
+  try {
+    buildModel(loadScene(apart, {}, library()));
+    FAIL("no error");
+  } catch (const InputError& e) {
+    INFO(e.what());
+    CHECK(e.line() == 13);  // the second bar's [[bodies]]
+    CHECK(e.message().find("bodies 'bar' (line 4) and 'second' lie on opposite sides of the "
+                           "symmetry plane x = -5 mm (second: x = -12") == 0);
+  }
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
@@ -756,12 +800,14 @@ TEST_CASE("a body's rotation turns it by angle_deg about its axis", "[unit][scen
 
 TEST_CASE("fixed boundaries hold the rim and a closed box, and symmetry planes add their bits",
           "[unit][scene]") {
-  // A half model (plane y = 0) with a second plane x = 0: the plate's rim is held in every
-  // direction, also where it meets a plane; a box holds the nodes inside it and on its faces
-  // (its corner is put on a node of the bar); each plane holds the velocity component normal
-  // to it, and a node on both planes (the bar's axis) keeps both.
-  const std::string planes = std::string("\n[[boundary]]\ntype = \"symmetry\"\naxis = \"x\"\n") +
-                             "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"rim\"\n";
+  // A half model (plane y = 0) with a second plane on the plate's rear face (z = -7 mm, all
+  // bodies on one side of it): the plate's rim is held in every direction, also where it
+  // meets a plane; a box holds the nodes inside it and on its faces (its corner is put on a
+  // node of the bar); each plane holds the velocity component normal to it, and a node on both
+  // planes (the rear face's edge on y = 0) keeps both.
+  const std::string planes =
+      std::string("\n[[boundary]]\ntype = \"symmetry\"\naxis = \"z\"\nposition = -7e-3\n") +
+      "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"rim\"\n";
   const std::vector<std::string> half = {"simulation.symmetry=\"half\""};
   const Model first =
       buildModel(loadScene(writeScene("fixed.toml", kBarAndPlate + planes), half, library()));
@@ -795,9 +841,9 @@ TEST_CASE("fixed boundaries hold the rim and a closed box, and symmetry planes a
       expected = 0b111;
       ++boxed;
     }
-    if (std::abs(x.x()) < on_plane) expected |= 0b001;
+    if (std::abs(x.z() + 7e-3) < on_plane) expected |= 0b100;
     if (std::abs(x.y()) < on_plane) expected |= 0b010;
-    both_planes += std::abs(x.x()) < on_plane && std::abs(x.y()) < on_plane;
+    both_planes += std::abs(x.z() + 7e-3) < on_plane && std::abs(x.y()) < on_plane;
     INFO("node " << a << " at " << x.transpose());
     CHECK(int(m.nodes.fix[a]) == int(expected));
   }
