@@ -2,6 +2,7 @@
 // Scene reading: bad input gives a located message (file, line) and exit code 2.
 #include "core/common/error.hpp"
 #include "core/scene/scene.hpp"
+#include "tests/support/text.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -311,6 +312,34 @@ TEST_CASE("a model with a symmetry plane holds only bodies on one side of it", "
           0);
   }
   REQUIRE(runCli(across) == 2);
+  // A mesh written with few digits puts its nodes on the plane a hair off it: the 10 mm cube
+  // in mm with its face y = 0 written as y = -1e-9 (1e-12 m, a 1e-10 of its size) lies on
+  // the plane y = 0 of a half model, those nodes held on it.
+  {
+    std::istringstream cube(fesph::testing::slurp(fs::path(FESPH_TEST_DATA_DIR) / "cube_v22.msh"));
+    std::ostringstream hair;
+    bool nodes = false;
+    int on_plane = 0;
+    for (std::string line; std::getline(cube, line);) {
+      std::istringstream words(line);
+      std::string id, x, y, z;
+      if (nodes && (words >> id >> x >> y >> z) && y == "0") line = id + " " + x + " -1e-9 " + z, ++on_plane;
+      if (line == "$Nodes") nodes = true;
+      if (line == "$EndNodes") nodes = false;
+      hair << line << "\n";
+    }
+    REQUIRE(on_plane > 0);
+    const fs::path dir = fs::path(writeScene("hair.toml", "")).parent_path();
+    std::ofstream(dir / "cube_hair.msh") << hair.str();
+    const std::string text = replace(
+        replace(kGoodScene, "end_time = 1e-6", "end_time = 1e-6\nsymmetry = \"half\""),
+        "type = \"projectile\"\ndiameter = 4e-3\nlength = 8e-3\nmesh_size = 2e-3",
+        "type = \"msh\"\nfile = \"cube_hair.msh\"\nscale = 1e-3");
+    const Model m = buildModel(loadScene(writeScene("hair.toml", text), {}, library()));
+    int held = 0;
+    for (std::size_t a = 0; a < m.nodes.size(); ++a) held += m.nodes.fix[a] == 0b010;
+    CHECK(held == on_plane);
+  }
   // A second bar 10 mm along -x: the plane at x = -5 mm has one bar on either side.
   const std::string second = R"([[bodies]]
 name = "second"
