@@ -420,8 +420,9 @@ void RunSession::printSummary() const {
     std::printf("  cost             %.1f ns per element-step (%d threads)\n",
                 1e9 * wall_solver_ / element_steps_, omp_get_max_threads());
   printFiguresOfMerit(model);  // cost by phase, memory
-  std::printf("  energy (J)       kinetic %.6g  internal %.6g  contact %.6g  eroded %.6g\n",
-              en.kinetic, en.internal, en.contact, en.eroded);
+  std::printf("  energy (J)       kinetic %.6g  internal %.6g  contact %.6g  eroded %.6g%s\n",
+              en.kinetic, en.internal, en.contact, en.eroded,
+              model.symmetry.empty() ? "" : "  (the modelled part's, without its mirror images)");
   const ConversionStats& cs = model.conversion;
   if (cs.eroded + cs.converted > 0)
     std::printf("  conversion       %ld eroded (%.4g kg), %ld converted; triggers: %ld damage, "

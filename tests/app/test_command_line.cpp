@@ -207,6 +207,31 @@ TEST_CASE("fesph render: a field or size given wrong, times too close for six di
   CHECK(!has(precise.out, "warning: --threads"));
 }
 
+TEST_CASE("a half model's energies are said to be the modelled part's, in the summary and the "
+          "shell's probe",
+          "[app]") {
+  // Its energies, momentum and masses are the half's (its velocities the full bodies'): the
+  // summary gave them as they were, beside the full projectile's velocity.
+  const TempFolder dir("half_energies");
+  const std::string note = "(the modelled part's, without its mirror images)";
+  const Result full = runTestScene("--end-time 1e-7", dir.path);
+  INFO(full.out);
+  REQUIRE(full.code == 0);
+  CHECK(!has(full.out, note));
+  const std::string half = " --set simulation.symmetry='\"half\"'";
+  const std::string scene = std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml";
+  const Result run =
+      command("run " + scene + " --end-time 1e-7 --out half --quiet --no-images" + half, dir.path);
+  INFO(run.out);
+  REQUIRE(run.code == 0);
+  CHECK(has(run.out, "eroded 0  " + note));
+  std::ofstream(dir.path / "steps.txt") << "step 2\nprobe\n";
+  const Result probe = command("shell " + scene + " --out probe" + half + " < steps.txt", dir.path);
+  INFO(probe.out);
+  CHECK(probe.code == 0);
+  CHECK(has(probe.out, "balance error 0 %\n                " + note));
+}
+
 TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
   // VTK's own messages (coloured, time-stamped, a line from each pipeline stage) are kept for
   // fesph's message instead; the file cut short was read as a series without a "body" array.
