@@ -81,6 +81,10 @@ std::vector<Clump> findClumps(const std::vector<DebrisParticle>& particles,
   for (Clump& c : clumps) {
     if (c.mass > 0) c.centroid /= c.mass, c.velocity /= c.mass, c.damage /= c.mass;
     c.full_mass = c.on_plane ? 2 * c.mass : c.mass;
+    // A clump on the plane with its mirror image is one clump of the full model: its centre
+    // lies on the plane and moves along it; its size and spread below then count the
+    // distance and the sideways speed of its half from there, as its mirror half's.
+    if (c.on_plane) c.centroid.y() = 0, c.velocity.y() = 0;
   }
   for (std::size_t i = 0; i < n; ++i) {
     const DebrisParticle& q = particles[i];

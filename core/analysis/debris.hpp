@@ -34,8 +34,10 @@ struct Clump {
   std::size_t particles = 0;
   double mass = 0;                  ///< kg, in the model (see full_mass)
   double full_mass = 0;             ///< kg, in the full model: twice `mass` if on_plane
-  Vec3 centroid = Vec3::Zero();     ///< mass-weighted, m
-  Vec3 velocity = Vec3::Zero();     ///< momentum over mass, m/s
+  /// Mass-weighted centre and velocity, m and m/s; of the full clump, with its mirror image,
+  /// if on_plane (on the plane, along it), and likewise its size and spread.
+  Vec3 centroid = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
   double damage = 0;                ///< mass-weighted mean
   double size = 0;                  ///< rms distance of its particles from the centroid, m
   double spread = 0;                ///< rms speed of its particles relative to `velocity`, m/s

@@ -105,6 +105,30 @@ TEST_CASE("debris: a clump on a half model's plane stands for twice its mass",
   REQUIRE(c[0].full_mass == Approx(2 * c[0].mass).epsilon(1e-15));
   REQUIRE_FALSE(c[1].on_plane);
   REQUIRE(findClumps(p).front().on_plane == false);  // a full model has no plane
+  // With its mirror image the clump on the plane is one clump of the full model: its centre
+  // on the plane, moving along it; its half's sideways 30 m/s is the full clump's spread
+  // (its halves fly apart), its half's 40 m/s along x its motion. The clump off the plane has
+  // a twin: its own values.
+  std::vector<DebrisParticle> moving;
+  addLattice(moving, Vec3(0, r, 0), 2, r, Vec3(40, 30, 0), 0);
+  addLattice(moving, Vec3(0.05, 10 * r, 0), 2, r, Vec3(40, 30, 0), 0);
+  const std::vector<Clump> m = findClumps(moving, half);
+  REQUIRE(m[0].on_plane);
+  CHECK(m[0].velocity == Vec3(40, 0, 0));
+  CHECK(m[0].centroid.y() == 0.0);
+  CHECK(m[0].spread == Approx(30.0).epsilon(1e-12));
+  // Its size from the centre on the plane: the half's rms distance from its own centre and
+  // that centre's distance from the plane, in quadrature.
+  Vec3 centre = Vec3::Zero();
+  double mass = 0, size2 = 0;
+  for (const DebrisParticle& q : moving)
+    if (q.x.y() < 5 * r) centre += q.mass * q.x, mass += q.mass;
+  centre /= mass;
+  for (const DebrisParticle& q : moving)
+    if (q.x.y() < 5 * r) size2 += q.mass * (q.x - centre).squaredNorm() / mass;
+  CHECK(m[0].size == Approx(std::hypot(std::sqrt(size2), centre.y())).epsilon(1e-12));
+  CHECK(m[1].velocity == Vec3(40, 30, 0));
+  CHECK(m[1].spread == Approx(0.0).margin(1e-12));
   // A particle links with its own mirror image when 2 |y| <= link (r + r), i.e. |y| <= 1.5 r:
   // a layer 1.4 r off the plane is cut by it, one 1.6 r off is not.
   for (const double y : {1.4, 1.6}) {
