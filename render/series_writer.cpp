@@ -5,6 +5,7 @@
 
 #include "core/common/error.hpp"
 #include "core/common/number_text.hpp"
+#include "core/common/read_file.hpp"
 #include "core/io/replace_file.hpp"
 #include "core/scene/scene.hpp"
 #include "render/vtk_errors.hpp"
@@ -33,7 +34,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -69,11 +69,9 @@ bool attribute(const std::string& tag, const std::string& name, std::string& val
 }
 
 std::vector<PvdCollection::Entry> readPvd(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RunError("cannot read " + path.string());
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  std::string text, why;
+  if (!readWholeFile(path.string(), text, why))
+    throw RunError("cannot read " + path.string() + ": " + why);
 
   std::vector<PvdCollection::Entry> entries;
   std::size_t at = 0;

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "core/common/toml_check.hpp"
 
+#include "core/common/read_file.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <fstream>
-#include <sstream>
 
 namespace fesph::tomlcheck {
 
@@ -92,11 +92,9 @@ toml::table parseText(std::string_view text, const std::string& source_name) {
 }
 
 toml::table parseFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, 0, "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parseText(ss.str(), path);
+  std::string text, why;
+  if (!readWholeFile(path, text, why)) throw InputError(path, 0, 0, "cannot read: " + why);
+  return parseText(text, path);
 }
 
 void fail(const std::string& file, const toml::source_region& where, const std::string& msg) {

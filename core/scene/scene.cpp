@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/scene/scene.hpp"
 
+#include "core/common/read_file.hpp"
 #include "core/common/toml_check.hpp"
 #include "core/material/library.hpp"
 
@@ -9,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <ostream>
 #include <set>
 #include <sstream>
@@ -567,11 +567,9 @@ void readSceneTables(const toml::table& root, const std::string& file,
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
                 const std::string& material_library) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, 0, "cannot open scene file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return loadSceneText(ss.str(), path, overrides, material_library);
+  std::string text, why;
+  if (!readWholeFile(path, text, why)) throw InputError(path, 0, 0, "cannot read the scene: " + why);
+  return loadSceneText(text, path, overrides, material_library);
 }
 
 Scene loadSceneText(const std::string& text, const std::string& path,

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 #include <sys/wait.h>
@@ -172,6 +173,29 @@ gamma0 = 1.97
                                      "as [materials.my_aluminum], and the library ") !=
           std::string::npos);
   }
+}
+
+TEST_CASE("a scene or library that is no file says why", "[unit][scene]") {
+  // A folder given as the material library read as an empty file: "the material library
+  // defines no materials"; a missing one said only "cannot open file".
+  const std::string scene = writeScene("why.toml", kGoodScene);
+  const std::string folder = fs::path(scene).parent_path().string();
+  const auto error = [](const std::function<void()>& load) {
+    try {
+      load();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(error([&] { loadScene(scene, {}, folder); }) ==
+        folder + ": error: cannot read: a folder, not a file");
+  CHECK(error([&] { loadScene(scene, {}, folder + "/none.toml"); }) ==
+        folder + "/none.toml: error: cannot read: No such file or directory");
+  CHECK(error([&] { loadScene(folder, {}, library()); }) ==
+        folder + ": error: cannot read the scene: a folder, not a file");
+  CHECK(error([&] { loadScene(folder + "/none.toml", {}, library()); }) ==
+        folder + "/none.toml: error: cannot read the scene: No such file or directory");
 }
 
 TEST_CASE("a negative density is rejected before any work", "[unit][scene]") {
