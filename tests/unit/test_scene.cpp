@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -48,6 +49,16 @@ std::string replace(std::string text, const std::string& from, const std::string
   const auto pos = text.find(from);
   REQUIRE(pos != std::string::npos);
   return text.replace(pos, from.size(), to);
+}
+
+// The InputError that `load` throws; none when it throws none.
+std::optional<InputError> thrownBy(const std::function<void()>& load) {
+  try {
+    load();
+  } catch (const InputError& e) {
+    return e;
+  }
+  return std::nullopt;
 }
 
 // Run `fesph run` on a scene and return its exit code.
@@ -151,28 +162,21 @@ gamma0 = 1.97
   // A required key left out is named, at the material's table (line 14: [materials.my_aluminium]).
   const std::string path =
       writeScene("own_material_short.toml", replace(text, "youngs_modulus = 70e9\n", ""));
-  try {
-    loadScene(path, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    CHECK(e.line() == 14);
-    CHECK(std::string(e.what()).find("youngs_modulus") != std::string::npos);
-  }
+  const auto short_key = thrownBy([&] { loadScene(path, {}, library()); });
+  REQUIRE(short_key);
+  INFO(short_key->what());
+  CHECK(short_key->line() == 14);
+  CHECK(short_key->message().find("youngs_modulus") != std::string::npos);
   REQUIRE(runCli(path) == 2);
   // A body's material neither in the library nor in the scene says where it was looked for.
-  try {
-    loadScene(writeScene("own_material_typo.toml",
-                         replace(text, "material = \"my_aluminium\"", "material = \"my_aluminum\"")),
-              {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    CHECK(e.line() == 6);
-    CHECK(std::string(e.what()).find("unknown material 'my_aluminum': not defined in the scene "
-                                     "as [materials.my_aluminum], and the library ") !=
-          std::string::npos);
-  }
+  const std::string typo = writeScene(
+      "own_material_typo.toml", replace(text, "material = \"my_aluminium\"", "material = \"my_aluminum\""));
+  const auto unknown = thrownBy([&] { loadScene(typo, {}, library()); });
+  REQUIRE(unknown);
+  INFO(unknown->what());
+  CHECK(unknown->line() == 6);
+  CHECK(unknown->message().find("unknown material 'my_aluminum': not defined in the scene as "
+                                "[materials.my_aluminum], and the library ") == 0);
 }
 
 TEST_CASE("a scene or library that is no file says why", "[unit][scene]") {
@@ -181,12 +185,8 @@ TEST_CASE("a scene or library that is no file says why", "[unit][scene]") {
   const std::string scene = writeScene("why.toml", kGoodScene);
   const std::string folder = fs::path(scene).parent_path().string();
   const auto error = [](const std::function<void()>& load) {
-    try {
-      load();
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    const auto e = thrownBy(load);
+    return e ? std::string(e->what()) : std::string("no error");
   };
   CHECK(error([&] { loadScene(scene, {}, folder); }) ==
         folder + ": error: cannot read: a folder, not a file");
@@ -325,16 +325,13 @@ TEST_CASE("a model with a symmetry plane holds only bodies on one side of it", "
   };
   REQUIRE_NOTHROW(buildModel(loadScene(writeScene("side.toml", withPlane("-3e-3")), {}, library())));
   const std::string across = writeScene("across.toml", withPlane("1e-3"));
-  try {
-    buildModel(loadScene(across, {}, library()));
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    CHECK(e.file() == across);
-    CHECK(e.line() == 4);  // the bar's [[bodies]]
-    CHECK(e.message().find("body 'bar' lies on both sides of the symmetry plane x = 1 mm (x = -2") ==
-          0);
-  }
+  const auto both_sides = thrownBy([&] { buildModel(loadScene(across, {}, library())); });
+  REQUIRE(both_sides);
+  INFO(both_sides->what());
+  CHECK(both_sides->file() == across);
+  CHECK(both_sides->line() == 4);  // the bar's [[bodies]]
+  CHECK(both_sides->message().find(
+            "body 'bar' lies on both sides of the symmetry plane x = 1 mm (x = -2") == 0);
   REQUIRE(runCli(across) == 2);
   // A mesh written with few digits puts its nodes on the plane a hair off it: the 10 mm cube
   // in mm with its face y = 0 written as y = -1e-9 (1e-12 m, a 1e-10 of its size) lies on
@@ -365,26 +362,17 @@ TEST_CASE("a model with a symmetry plane holds only bodies on one side of it", "
     CHECK(held == on_plane);
   }
   // A second bar 10 mm along -x: the plane at x = -5 mm has one bar on either side.
-  const std::string second = R"([[bodies]]
-name = "second"
-material = "steel_4340"
-position = [-10e-3, 0, 0]
-[bodies.shape]
-type = "projectile"
-diameter = 4e-3
-length = 8e-3
-mesh_size = 2e-3
-)";
+  const std::string bar = std::string(kGoodScene).substr(std::string(kGoodScene).find("[[bodies]]"));
+  const std::string second =
+      replace(replace(bar, "name = \"bar\"", "name = \"second\""), "velocity = [0, 0, -100]",
+              "velocity = [0, 0, -100]\nposition = [-10e-3, 0, 0]");
   const std::string apart = writeScene("apart_sides.toml", withPlane("-5e-3", second));
-  try {
-    buildModel(loadScene(apart, {}, library()));
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    CHECK(e.line() == 13);  // the second bar's [[bodies]]
-    CHECK(e.message().find("bodies 'bar' (line 4) and 'second' lie on opposite sides of the "
-                           "symmetry plane x = -5 mm (second: x = -12") == 0);
-  }
+  const auto opposite = thrownBy([&] { buildModel(loadScene(apart, {}, library())); });
+  REQUIRE(opposite);
+  INFO(opposite->what());
+  CHECK(opposite->line() == 13);  // the second bar's [[bodies]]
+  CHECK(opposite->message().find("bodies 'bar' (line 4) and 'second' lie on opposite sides of the "
+                                 "symmetry plane x = -5 mm (second: x = -12") == 0);
 }
 
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
