@@ -270,7 +270,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
         "leading node reaches the plane one clear gap behind the plate's rear face (the front "
         "face of the next plate; a virtual next plate at the same gap after the last one). "
         "Errors are (value - experiment) / experiment; a reference's 0 is a projectile that "
-        "stopped in the plate.\n\n";
+        "stopped in the plate. A - is no value: the run ended (its status and time under Runs) "
+        "or its piece stopped before that plane, or there is nothing to compare with.\n\n";
   if (!ref.source.empty()) md << "Reference: " << ref.source << ".\n\n";
   md << "| plate | experiment |";
   for (const auto& [label, v] : ref.published) md << " " << label << " | error |";

@@ -216,6 +216,8 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   const std::string more = read(tmp.path / "rep_more" / "report.md");
   CHECK(more.find("FE (default, fe) |") != std::string::npos);
   CHECK(more.find("| v3 | - | - | - | - | - | 900.0 | - |") != std::string::npos);
+  CHECK(more.find("A - is no value: the run ended (its status and time under Runs) or its piece "
+                  "stopped before that plane") != std::string::npos);
   // Its piece (half the mass, at 900 m/s) and all its material through (0.8, at 850 m/s).
   CHECK(more.find("| v3 | erosion 0.4 (default, ero) | 900.0 | 50.0 % | 850.0 | - | 80.0 % |") !=
         std::string::npos);
