@@ -193,6 +193,13 @@ std::vector<std::string> plateImages(const ReportRun& r, const fs::path& out, in
   return copied;
 }
 
+// Three significant figures, and every figure of a whole number past them (1980, not 1.98e+03).
+std::string threeFigures(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, std::abs(v) >= 1000 ? "%.0f" : "%.3g", v);
+  return text;
+}
+
 // The clumps of free particles that would strike a plate, most kinetic energy first (debris.csv, written with
 // the images; core/analysis/debris.hpp).
 void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
@@ -227,9 +234,10 @@ void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
     const CsvRow& c = *striking[k];
     char line[512];
     std::snprintf(line, sizeof line,
-                  "| %s | %s | %.3g | %.0f | %.3g | %.2f | %s | %.2f | %.0f, %.0f | %.0f |\n",
+                  "| %s | %s | %s | %.0f | %s | %.2f | %s | %.2f | %.0f, %.0f | %.0f |\n",
                   c.at("body").c_str(), c.at("particles").c_str(),
-                  1e3 * std::stod(c.at("full_mass_kg")), std::stod(c.at("speed_m_s")), energy(c),
+                  threeFigures(1e3 * std::stod(c.at("full_mass_kg"))).c_str(),
+                  std::stod(c.at("speed_m_s")), threeFigures(energy(c)).c_str(),
                   std::stod(c.at("damage")), c.at("strikes").c_str(),
                   1e3 * std::stod(c.at("strike_time_s")), 1e3 * std::stod(c.at("strike_x_m")),
                   1e3 * std::stod(c.at("strike_y_m")),

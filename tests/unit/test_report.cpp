@@ -299,12 +299,17 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
          "1e-3,plate_1,3,30,0.0015,0.0015,350,0,0,-350,0.3,0.1,0.1,0.7,0.001,5,0,plate_2,"
          "2.8e-4,1.28e-3,0.3,0.1,0,350\n"
          "1e-3,plate_1,4,80,0.004,0.004,50,0,0,-50,0.1,0.1,0.1,0.6,0.002,5,0,plate_2,"
-         "2e-3,3e-3,0.1,0.1,0,50\n";
+         "2e-3,3e-3,0.1,0.1,0,50\n"
+         "1e-3,plate_1,5,90,0.0265,0.0265,386,0,0,-386,0.2,0.3,0.1,0.88,0.002,5,0,plate_2,"
+         "2.09e-3,3.09e-3,0.265,0.314,0,342\n";
   REQUIRE(run("report " + dir.string() + " --out " + (tmp.path / "rep2").string()) == 0);
   const std::string md = read(tmp.path / "rep2" / "report.md");
   INFO(md);
-  CHECK(md.find("4 clumps of two or more free particles (linked within 1.5 times the sum of "
-                "their radii), 3 of them on a straight course") != std::string::npos);
+  CHECK(md.find("5 clumps of two or more free particles (linked within 1.5 times the sum of "
+                "their radii), 4 of them on a straight course") != std::string::npos);
+  // Large energies in whole joules, not 1.97e+03 (an oblique impact's 26.5 g at 386 m/s).
+  const std::size_t largest = md.find("| plate_1 | 90 | 26.5 | 386 | 1974 | 0.88 | plate_2 | 3.09 | 265, 314 | 342 |");
+  CHECK(largest != std::string::npos);
   // Most kinetic energy first (1/2 m v^2: 160, 91.9 and 5 J), not heaviest first: the 4 g
   // clump drifting at 50 m/s comes last.
   const std::size_t first = md.find("| plate_1 | 20 | 2 | 400 | 160 | 0.80 | plate_2 | 1.25 | 200, 0 | 400 |");
@@ -313,6 +318,7 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
   CHECK(first != std::string::npos);
   CHECK(second != std::string::npos);
   CHECK(third != std::string::npos);
+  CHECK(largest < first);
   CHECK(first < second);
   CHECK(second < third);
 
