@@ -29,10 +29,8 @@ toml::source_region locate(const toml::table& t, const std::string& key) {
   return sub ? tomlcheck::where(*sub, key.substr(dot + 1)) : t.source();
 }
 
-}  // namespace
-
-Material parseMaterial(const toml::table& t, const std::string& file, Material base,
-                       const std::string& id) {
+Material readMaterial(const toml::table& t, const std::string& file, Material base,
+                      const std::string& id) {
   const std::string ctx = "material '" + id + "'";
   tomlcheck::allowKeys(t, file,
                        {"name", "status", "source", "density", "youngs_modulus", "poisson_ratio",
@@ -100,6 +98,20 @@ Material parseMaterial(const toml::table& t, const std::string& file, Material b
   const std::string problem = finaliseMaterial(m, key);
   if (!problem.empty()) tomlcheck::fail(file, locate(t, key), ctx + ": " + problem);
   return m;
+}
+
+}  // namespace
+
+Material parseMaterial(const toml::table& t, const std::string& file, Material base,
+                       const std::string& id) {
+  // Every message names the material: a key missing from a table a --set made has no line.
+  const std::string ctx = "material '" + id + "'";
+  try {
+    return readMaterial(t, file, std::move(base), id);
+  } catch (const InputError& e) {
+    if (e.message().find(ctx) != std::string::npos) throw;
+    throw InputError(e.file(), e.line(), e.column(), ctx + ": " + e.message());
+  }
 }
 
 MaterialLibrary MaterialLibrary::load(const std::string& path) {

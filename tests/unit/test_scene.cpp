@@ -177,6 +177,13 @@ gamma0 = 1.97
   CHECK(unknown->line() == 6);
   CHECK(unknown->message().find("unknown material 'my_aluminum': not defined in the scene as "
                                 "[materials.my_aluminum], and the library ") == 0);
+  // One begun with --set has no line to point at: the message names the material.
+  const auto begun = thrownBy([&] {
+    loadScene(writeScene("own_material_set.toml", kGoodScene),
+              {"materials.alu.density=2700.0", "bodies.bar.material=\"alu\""}, library());
+  });
+  REQUIRE(begun);
+  CHECK(begun->message() == "material 'alu': missing key 'status': expected a string");
 }
 
 TEST_CASE("a scene or library that is no file says why", "[unit][scene]") {
