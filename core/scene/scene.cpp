@@ -548,7 +548,9 @@ void readSceneTables(const toml::table& root, const std::string& file,
     for (auto&& [k, v] : *overrides_tbl) {
       const std::string id(k.str());
       if (std::find(material_ids.begin(), material_ids.end(), id) == material_ids.end())
-        fail(file, k.source(), "material override '" + id + "' is not used by any body");
+        fail(file, k.source(),
+             "material '" + id + "' is not used by any body: [materials." + id +
+                 "] changes or defines a material for the bodies that name it");
       if (!v.is_table()) fail(file, v.source(), "[materials." + id + "] must be a table");
     }
   }
