@@ -84,7 +84,8 @@ int main(int argc, char** argv) {
   shell_cmd->add_option("--out", shell.out, "Output folder of runs (default: the scene's)");
   shell_cmd->add_option("--set", shell.overrides, "Override a scene value (repeatable)");
   shell_cmd->add_option("--materials", shell.materials, "Material library");
-  shell_cmd->add_option("--threads", shell.threads, "OpenMP threads of its runs (default: all cores)")
+  shell_cmd->add_option("--threads", shell.threads,
+                        "OpenMP threads of its runs (default: all cores)")
       ->check(fesph::wholeNumber(1, 1024));
 
   try {

@@ -200,8 +200,8 @@ std::string threeFigures(double v) {
   return text;
 }
 
-// The clumps of free particles that would strike a plate, most kinetic energy first (debris.csv, written with
-// the images; core/analysis/debris.hpp).
+// The clumps of free particles that would strike a plate, most kinetic energy first
+// (debris.csv, written with the images; core/analysis/debris.hpp).
 void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
   if (clumps.empty()) return;
   constexpr std::size_t kShown = 10;

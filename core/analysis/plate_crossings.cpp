@@ -92,7 +92,8 @@ std::vector<MaterialRegion> materialByRegion(const Model& model,
   }
   for (std::size_t r = 0; r < regions.size(); ++r) {
     MaterialRegion& g = regions[r];
-    if (g.nodes.mass > 0) g.nodes.velocity = wholeBodyVelocity(model, body, p_node[r] / g.nodes.mass);
+    if (g.nodes.mass > 0)
+      g.nodes.velocity = wholeBodyVelocity(model, body, p_node[r] / g.nodes.mass);
     if (g.particles.mass > 0) {
       g.particles.velocity = wholeBodyVelocity(model, body, p_particle[r] / g.particles.mass);
       g.particle_offset /= g.particles.mass;

@@ -570,7 +570,8 @@ void readSceneTables(const toml::table& root, const std::string& file,
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides,
                 const std::string& material_library) {
   std::string text, why;
-  if (!readWholeFile(path, text, why)) throw InputError(path, 0, 0, "cannot read the scene: " + why);
+  if (!readWholeFile(path, text, why))
+    throw InputError(path, 0, 0, "cannot read the scene: " + why);
   return loadSceneText(text, path, overrides, material_library);
 }
 
