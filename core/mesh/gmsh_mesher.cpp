@@ -135,17 +135,6 @@ int addProfileFace(const std::vector<std::pair<double, double>>& xz) {
   return gmsh::model::occ::addPlaneSurface({gmsh::model::occ::addCurveLoop(lines)});
 }
 
-/// Nose length: 0 (flat), r (hemisphere) or sqrt(R^2 - (R - r)^2) with R = crh * d (ogive).
-double noseLength(const ProjectileSpec& s) {
-  const double r = 0.5 * s.diameter, big_r = s.crh * s.diameter;
-  switch (s.nose) {
-    case NoseShape::Flat: return 0.0;
-    case NoseShape::Hemispherical: return r;
-    case NoseShape::Ogive: return std::sqrt(big_r * big_r - (big_r - r) * (big_r - r));
-  }
-  return 0.0;
-}
-
 /// Profile of the solid body (without cavity) in the x-z half plane: x = radius, z = axis.
 int addOuterProfile(const ProjectileSpec& s) {
   namespace occ = gmsh::model::occ;

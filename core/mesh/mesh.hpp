@@ -6,6 +6,7 @@
 #include "core/common/types.hpp"
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,17 @@ struct ProjectileSpec {
   double mesh_size = 0;
   bool half = false;
 };
+
+/// Nose length: 0 (flat), r (hemisphere) or sqrt(R^2 - (R - r)^2) with R = crh * d (ogive).
+inline double noseLength(const ProjectileSpec& s) {
+  const double r = 0.5 * s.diameter, big_r = s.crh * s.diameter;
+  switch (s.nose) {
+    case NoseShape::Flat: return 0.0;
+    case NoseShape::Hemispherical: return r;
+    case NoseShape::Ogive: return std::sqrt(big_r * big_r - (big_r - r) * (big_r - r));
+  }
+  return 0.0;
+}
 
 /// Mesh quality figures. Shape quality q = 12 (3V)^(2/3) / sum(l^2), 1 for a regular tet.
 struct MeshQuality {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/scene/scene.hpp"
 
+#include "core/common/number_text.hpp"
 #include "core/common/read_file.hpp"
 #include "core/common/toml_check.hpp"
 #include "core/material/library.hpp"
@@ -382,8 +383,15 @@ ProjectileSpec readProjectile(const toml::table& t, const std::string& file, boo
   p.crh = positive(t, "crh", file, p.crh);
   if (p.nose == NoseShape::Ogive && p.crh < 0.5)
     fail(file, where(t, "crh"), "'crh' of an ogive must be >= 0.5");
-  if (p.nose == NoseShape::Hemispherical && p.length < 0.5 * p.diameter)
-    fail(file, where(t, "length"), "a hemispherical nose needs length >= diameter / 2");
+  if (!(p.length > noseLength(p))) {  // the nose would be longer than the body
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "'length' (%.4g mm) must exceed the nose's length (%.4g mm: %s%s on %.4g mm)",
+                  1e3 * p.length, 1e3 * noseLength(p), nose.c_str(),
+                  p.nose == NoseShape::Ogive ? (" of crh " + shortestText(p.crh)).c_str() : "",
+                  1e3 * p.diameter);
+    fail(file, where(t, "length"), what);
+  }
   p.cavity_diameter = positive(t, "cavity_diameter", file, p.cavity_diameter, true);
   if (p.cavity_diameter > 0) {
     p.cavity_start = positive(t, "cavity_start", file);

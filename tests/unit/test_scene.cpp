@@ -259,6 +259,27 @@ TEST_CASE("impossible values are rejected with their line", "[unit][scene]") {
   } catch (const InputError& e) {
     CHECK(e.message() == "'end_time' must be > 0, got -2.5e-09");
   }
+  // A nose longer than the body was said by the mesher, with no file or line ("<input>:
+  // error: projectile: length must exceed the nose length"): an ogive of crh 2 on 4 mm is
+  // 4 sqrt(7) / 2 = 5.29 mm long, a hemisphere 2 mm (a body as long as its nose passed here).
+  const auto nose = [&](const std::string& shape, const std::string& length) {
+    return thrownBy([&] {
+      loadScene(writeScene("impossible_nose.toml",
+                           replace(replace(kGoodScene, "length = 8e-3", "length = " + length),
+                                   "type = \"projectile\"", "type = \"projectile\"\n" + shape)),
+                {}, library());
+    });
+  };
+  const auto ogive = nose("nose = \"ogive\"", "5e-3");
+  REQUIRE(ogive);
+  CHECK(ogive->line() == 12);  // the length, below the nose line put in
+  CHECK(ogive->message() ==
+        "'length' (5 mm) must exceed the nose's length (5.292 mm: ogive of crh 2 on 4 mm)");
+  CHECK_FALSE(nose("nose = \"ogive\"", "5.3e-3"));
+  const auto hemisphere = nose("nose = \"hemispherical\"", "2e-3");
+  REQUIRE(hemisphere);
+  CHECK(hemisphere->message() ==
+        "'length' (2 mm) must exceed the nose's length (2 mm: hemispherical on 4 mm)");
 }
 
 TEST_CASE("two symmetry planes on one axis are an error at the second", "[unit][scene]") {
@@ -717,9 +738,10 @@ TEST_CASE("each bound of a scene value lies where its message puts it", "[unit][
       {{"bodies.bar.shape.nose=\"ogive\"", "bodies.bar.shape.crh=0.5"}, ""},
       {{"bodies.bar.shape.nose=\"ogive\"", "bodies.bar.shape.crh=0.49"}, "'crh' of an ogive"},
       {{"bodies.bar.shape.nose=\"flatter\""}, "is not one of"},
-      {{"bodies.bar.shape.nose=\"hemispherical\"", "bodies.bar.shape.length=2e-3"}, ""},
-      {{"bodies.bar.shape.nose=\"hemispherical\"", "bodies.bar.shape.length=1.99e-3"},
-       "length >= diameter / 2"},
+      // the body longer than its nose (d / 2 = 2 mm): 2 mm passed here and failed the mesher
+      {{"bodies.bar.shape.nose=\"hemispherical\"", "bodies.bar.shape.length=2.01e-3"}, ""},
+      {{"bodies.bar.shape.nose=\"hemispherical\"", "bodies.bar.shape.length=2e-3"},
+       "must exceed the nose's length (2 mm"},
       {{"bodies.bar.shape.cavity_diameter=3.99e-3", "bodies.bar.shape.cavity_start=1e-3",
         "bodies.bar.shape.cavity_end=7.99e-3"},
        ""},
