@@ -922,3 +922,17 @@ TEST_CASE("fixed boundaries hold the rim and a closed box, and symmetry planes a
   CHECK(boxed > 0);
   CHECK(both_planes > 0);
 }
+
+TEST_CASE("a body Gmsh cannot mesh is named at its line", "[unit][scene]") {
+  // A plate 1 nm thick: OpenCASCADE gives up. The mesher's message had no file or line
+  // ("<input>: error: plate: Gmsh failed: ...").
+  const std::string path =
+      writeScene("thin.toml", replace(kBarAndPlate, "thickness = 2e-3", "thickness = 1e-9"));
+  const auto e = thrownBy([&] { buildModel(loadScene(path, {}, library())); });
+  REQUIRE(e);
+  INFO(e->what());
+  CHECK(e->file() == path);
+  CHECK(e->line() == 13);  // the plate's [[bodies]]
+  CHECK(e->message().find("body 'plate': plate: Gmsh failed") == 0);
+  REQUIRE(runCli(path) == 2);
+}
