@@ -31,6 +31,10 @@ std::map<std::string, Held>& heldLocks() {
 
 }  // namespace
 
+std::string lockFile(const std::string& folder) {
+  return (std::filesystem::path(folder) / ".fesph.lock").string();
+}
+
 FolderLock::~FolderLock() { release(); }
 
 void FolderLock::release() {
@@ -47,8 +51,7 @@ bool FolderLock::held(const std::string& folder) {
   std::error_code ec;
   const std::string key = std::filesystem::weakly_canonical(folder, ec).string();
   if (!ec && heldLocks().count(key)) return true;
-  const std::string path = (std::filesystem::path(folder) / ".fesph.lock").string();
-  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd = open(lockFile(folder).c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return false;  // no lock file: no run of a fesph that locks
   const bool taken = flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
   close(fd);  // releases the shared lock if it got one
@@ -56,8 +59,8 @@ bool FolderLock::held(const std::string& folder) {
 }
 
 std::string standingStatus(const std::string& folder, const std::string& status) {
-  const std::filesystem::path lock = std::filesystem::path(folder) / ".fesph.lock";
-  if (status != "running" || !std::filesystem::exists(lock) || FolderLock::held(folder))
+  if (status != "running" || !std::filesystem::exists(lockFile(folder)) ||
+      FolderLock::held(folder))
     return status;
   return "ended abruptly (killed or crashed)";
 }
@@ -67,7 +70,7 @@ void FolderLock::take(const std::string& folder) {
   if (key == key_) return;
   auto it = heldLocks().find(key);
   if (it == heldLocks().end()) {
-    const std::string path = (std::filesystem::path(folder) / ".fesph.lock").string();
+    const std::string path = lockFile(folder);
     const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw RunError("cannot create " + path + ": " + std::strerror(errno));
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {

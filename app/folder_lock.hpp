@@ -30,6 +30,9 @@ class FolderLock {
   std::string key_;  ///< the folder's canonical path; empty: none held
 };
 
+/// The lock file of `folder`: FOLDER/.fesph.lock.
+std::string lockFile(const std::string& folder);
+
 /// A run folder's summary.toml status as it stands now: "running" of a folder that holds the
 /// lock file and no run holds is "ended abruptly (killed or crashed)"; any other as it is.
 std::string standingStatus(const std::string& folder, const std::string& status);

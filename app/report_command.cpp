@@ -72,6 +72,11 @@ struct ReportRun {
   std::vector<double> through_fraction;  ///< its share of the initial mass
 };
 
+/// The run's label with `shown` for its folder (its name, or more of its path).
+std::string runLabel(const ReportRun& r, const fs::path& shown) {
+  return r.kind + " (" + r.scene.resolution + ", " + shown.string() + ")";
+}
+
 double summaryNumber(const ReportRun& r, const char* key) {
   const toml::node* n = r.summary.get(key);
   return n && n->is_number() ? tomlcheck::numberValue(*n) : std::nan("");
@@ -105,7 +110,7 @@ ReportRun readRun(const fs::path& dir) {
   else
     std::snprintf(label, sizeof label, "FE");
   r.kind = label;
-  r.label = r.kind + " (" + r.scene.resolution + ", " + dir.filename().string() + ")";
+  r.label = runLabel(r, dir.filename());
   for (const CsvRow& row : readCsv(dir / "residual_velocities.csv")) {
     auto number = [&](const char* key) {  // NaN: not measured (or a column older runs lack)
       const auto it = row.find(key);
@@ -133,10 +138,10 @@ std::string velocity(double v) {
   return s;
 }
 
-// Error against the experiment, (simulation - experiment) / experiment in %.
 /// A reference's velocity in the report: 0 is a projectile that stopped in the plate.
 std::string referenceVelocity(double v) { return v == 0 ? "0 (stopped)" : velocity(v); }
 
+// Error against the experiment, (simulation - experiment) / experiment in %.
 std::string error(double sim, double exp) {
   // The test stopped in this plate: a run through it has no error to give, but must say so.
   if (exp == 0) return std::isfinite(sim) && sim > 0 ? "through (stopped in the test)" : "-";
@@ -347,6 +352,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   for (const ReportRun& r : runs) {
     const double wall = summaryNumber(r, "wall_time_s");
     const double threads = summaryNumber(r, "threads");
+    const std::string status = standingStatus(r.dir.string(), summaryString(r, "status", ""));
     char line[512];
     std::snprintf(line, sizeof line,
                   "| %s | %.0f | %.0f | %.0f | %.4g s | %.*f s | %.0f | %.3g %% | %s |\n",
@@ -354,8 +360,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
                   summaryNumber(r, "steps"), summaryNumber(r, "time"),
                   wall < 100 ? 2 : 0, wall, threads,  // a test run of 0.35 s was "0 s"
                   100 * summaryNumber(r, "energy_balance"),
-                  standingStatus(r.dir.string(), summaryString(r, "status", "no summary.toml"))
-                      .c_str());
+                  status.empty() ? "no summary.toml" : status.c_str());
     md << line;
     runs_csv << csvField(r.label) << "," << csvField(r.dir.string()) << ","
              << csvField(summaryString(r, "conversion_mode", "")) << ","
@@ -363,7 +368,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
              << summaryNumber(r, "elements") << "," << summaryNumber(r, "particles") << ","
              << summaryNumber(r, "steps") << "," << summaryNumber(r, "time") << "," << wall << ","
              << threads << "," << summaryNumber(r, "energy_balance") << ","
-             << csvField(standingStatus(r.dir.string(), summaryString(r, "status", ""))) << "\n";
+             << csvField(status) << "\n";
   }
 
   // Half models: no particle may cross a symmetry plane (docs/sph.md, "Symmetry planes"); runs
@@ -422,8 +427,6 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   std::ofstream(out / "report.md") << md.str();
 }
 
-}  // namespace
-
 /// Runs whose labels are alike (folders of one name in different places: a/quick, b/quick)
 /// are told apart by more of their paths; the same folder twice is bad input.
 void distinctLabels(std::vector<ReportRun>& runs) {
@@ -442,12 +445,14 @@ void distinctLabels(std::vector<ReportRun>& runs) {
             fs::path d = r->dir;
             for (int k = 0; k < depth && !d.filename().empty(); ++k, d = d.parent_path())
               shown = shown.empty() ? d.filename() : d.filename() / shown;
-            r->label = r->kind + " (" + r->scene.resolution + ", " + shown.string() + ")";
+            r->label = runLabel(*r, shown);
           }
         }
     if (!alike) return;
   }
 }
+
+}  // namespace
 
 int reportCommand(const ReportOptions& opt) {
   std::vector<ReportRun> runs;

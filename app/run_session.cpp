@@ -70,7 +70,7 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
     lock_.release();
     if (!existed) {  // the folder made above, with nothing but the lock in it
       std::error_code ec;
-      fs::remove(fs::path(folder()) / ".fesph.lock", ec);
+      fs::remove(lockFile(folder()), ec);
       fs::remove(folder(), ec);  // only if empty now
     }
     throw;
@@ -420,9 +420,9 @@ void RunSession::printSummary() const {
     std::printf("  cost             %.1f ns per element-step (%d threads)\n",
                 1e9 * wall_solver_ / element_steps_, omp_get_max_threads());
   printFiguresOfMerit(model);  // cost by phase, memory
-  std::printf("  energy (J)       kinetic %.6g  internal %.6g  contact %.6g  eroded %.6g%s\n",
-              en.kinetic, en.internal, en.contact, en.eroded,
-              model.symmetry.empty() ? "" : "  (the modelled part's, without its mirror images)");
+  std::printf("  energy (J)       kinetic %.6g  internal %.6g  contact %.6g  eroded %.6g%s%s\n",
+              en.kinetic, en.internal, en.contact, en.eroded, model.symmetry.empty() ? "" : "  ",
+              model.symmetry.empty() ? "" : kModelledPart);
   const ConversionStats& cs = model.conversion;
   if (cs.eroded + cs.converted > 0)
     std::printf("  conversion       %ld eroded (%.4g kg), %ld converted; triggers: %ld damage, "

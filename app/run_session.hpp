@@ -24,6 +24,11 @@ namespace fesph {
 class SeriesWriter;
 class PlateCrossings;
 
+/// Said of a model with symmetry planes beside its energies, momentum and masses (its
+/// velocities are the full bodies').
+inline constexpr const char* kModelledPart =
+    "(the modelled part's, without its mirror images)";
+
 /// Why RunSession::advance returned.
 enum class StopReason {
   EndTime,      ///< the scene's end time is reached: the run is complete

@@ -821,7 +821,7 @@ void Workbench::probe(const std::vector<std::string>& a) {
   std::printf("                total %.6g of the initial %.6g, balance error %.3g %%\n", e.total(),
               e.initial, 100 * e.balanceError());
   if (!m.symmetry.empty())
-    std::printf("                (the modelled part's, without its mirror images)\n");
+    std::printf("                %s\n", kModelledPart);
   // The budget at t^n is closed by the step from t^n: say so where it is not now's.
   if (e.step != m.step)
     std::printf("                (at t = %.6g s, step %ld: a step closes the budget of its start, "

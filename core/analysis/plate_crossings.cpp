@@ -90,12 +90,12 @@ std::vector<MaterialRegion> materialByRegion(const Model& model,
     p_particle[r] += pa.m[i] * pa.v[i];
     regions[r].particle_offset += pa.m[i] * off.norm();
   }
+  const unsigned planes = planesCutting(model, body);  // the full body's (wholeVelocity)
   for (std::size_t r = 0; r < regions.size(); ++r) {
     MaterialRegion& g = regions[r];
-    if (g.nodes.mass > 0)
-      g.nodes.velocity = wholeBodyVelocity(model, body, p_node[r] / g.nodes.mass);
+    if (g.nodes.mass > 0) g.nodes.velocity = alongPlanes(p_node[r] / g.nodes.mass, planes);
     if (g.particles.mass > 0) {
-      g.particles.velocity = wholeBodyVelocity(model, body, p_particle[r] / g.particles.mass);
+      g.particles.velocity = alongPlanes(p_particle[r] / g.particles.mass, planes);
       g.particle_offset /= g.particles.mass;
     }
   }

@@ -162,26 +162,38 @@ bool heldOnPlane(const Nodes& nd, std::size_t a, int axis) {
 
 }  // namespace
 
-Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v) {
-  for (const SymmetryPlane& s : model.symmetry)
-    if (std::any_of(nodes.begin(), nodes.end(),
-                    [&](int a) { return heldOnPlane(model.nodes, a, s.axis); }))
-      v[s.axis] = 0;
+Vec3 alongPlanes(Vec3 v, unsigned planes) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (planes >> axis & 1u) v[axis] = 0;
   return v;
 }
 
-Vec3 wholeBodyVelocity(const Model& model, int body, Vec3 v) {
+Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v) {
+  unsigned planes = 0;
+  for (const SymmetryPlane& s : model.symmetry)
+    if (std::any_of(nodes.begin(), nodes.end(),
+                    [&](int a) { return heldOnPlane(model.nodes, a, s.axis); }))
+      planes |= 1u << s.axis;
+  return alongPlanes(v, planes);
+}
+
+unsigned planesCutting(const Model& model, int body) {
   const Body& b = model.bodies[body];
   const Particles& pa = model.particles;
+  unsigned planes = 0;
   for (const SymmetryPlane& s : model.symmetry) {
     bool cut = false;
     for (std::size_t a = b.node_begin; a < b.node_end && !cut; ++a)
       cut = heldOnPlane(model.nodes, a, s.axis);
     for (std::size_t i = 0; i < pa.size() && !cut; ++i)
       cut = pa.body[i] == body && std::abs(pa.x[i][s.axis] - s.position) < pa.h[i];
-    if (cut) v[s.axis] = 0;
+    if (cut) planes |= 1u << s.axis;
   }
-  return v;
+  return planes;
+}
+
+Vec3 wholeBodyVelocity(const Model& model, int body, Vec3 v) {
+  return alongPlanes(v, planesCutting(model, body));
 }
 
 double bodyMass(const Model& model, int body) {

@@ -41,6 +41,12 @@ Vec3 bodyMeanVelocity(const Model& model, int body);
 Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v);
 Vec3 wholeBodyVelocity(const Model& model, int body, Vec3 v);
 
+/// The symmetry planes that cut `body`, one bit per axis (1 << axis), as wholeBodyVelocity
+/// finds them: for many velocities of one body, found once.
+unsigned planesCutting(const Model& model, int body);
+/// `v` with its components normal to the planes `planes` (bits as planesCutting's) zeroed.
+Vec3 alongPlanes(Vec3 v, unsigned planes);
+
 /// Mass of a body's active nodes and particles, kg.
 double bodyMass(const Model& model, int body);
 
