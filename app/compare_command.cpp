@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -18,10 +19,6 @@
 namespace fesph {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-}  // namespace
 
 int plateBody(const RunInfo& info, const std::string& which) {
   std::vector<int> plates;
@@ -58,16 +55,60 @@ void printHoles(const char* what, const std::vector<HoleSize>& holes) {
                 holes[k].centroid.y() * 1e3);
 }
 
+/// Hole by hole: the overlapping pairs, then the holes of one side only with the distance to
+/// the other side's nearest hole (a fragment hole the simulation put a few mm off, or none).
+void printPairs(const HoleComparison& c) {
+  std::printf("  hole by hole (holes that overlap are paired):\n");
+  for (const HolePair& p : c.pairs) {
+    const HoleSize &a = c.photo[p.photo], &b = c.simulated[p.simulated];
+    std::printf("    photograph %zu + simulation %zu  overlap %.3f mm2  IoU %.3f  centroids %.2f mm "
+                "apart  diameter %.3f / %.3f mm\n",
+                p.photo + 1, p.simulated + 1, p.overlap * 1e6, p.iou,
+                (a.centroid - b.centroid).norm() * 1e3, a.diameter * 1e3, b.diameter * 1e3);
+  }
+  std::size_t paired[2] = {0, 0};
+  for (int side = 0; side < 2; ++side) {
+    const bool photo = side == 0;
+    const std::size_t n = (photo ? c.photo : c.simulated).size();
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!partnersOf(c, k, photo).empty()) {
+        ++paired[side];
+        continue;
+      }
+      const double d = nearestOther(c, k, photo);
+      std::printf("    %s %zu only", photo ? "photograph" : "simulation", k + 1);
+      if (std::isfinite(d))
+        std::printf("  nearest %s hole %.2f mm away", photo ? "simulated" : "photographed", d * 1e3);
+      std::printf("\n");
+    }
+  }
+  std::printf("  paired: %zu of %zu photographed hole%s, %zu of %zu simulated\n", paired[0],
+              c.photo.size(), c.photo.size() == 1 ? "" : "s", paired[1], c.simulated.size());
+}
+
+/// The other side's hole numbers (from 1) that a hole overlaps, joined by `sep`.
+std::string partnerList(const HoleComparison& c, std::size_t hole, bool photo_side,
+                        const char* sep) {
+  std::string s;
+  for (std::size_t k : partnersOf(c, hole, photo_side))
+    s += (s.empty() ? "" : sep) + std::to_string(k + 1);
+  return s;
+}
+
 void writeCsv(const std::string& path, const HoleComparison& c) {
   std::ofstream out(path, std::ios::trunc);
-  out << "source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m\n";
-  const auto rows = [&](const char* source, const std::vector<HoleSize>& holes) {
-    for (std::size_t k = 0; k < holes.size(); ++k)
+  out << "source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m,overlaps,nearest_other_m\n";
+  const auto rows = [&](const char* source, bool photo_side) {
+    const std::vector<HoleSize>& holes = photo_side ? c.photo : c.simulated;
+    for (std::size_t k = 0; k < holes.size(); ++k) {
+      const double d = nearestOther(c, k, photo_side);
       out << source << ',' << k + 1 << ',' << num(holes[k].area) << ',' << num(holes[k].diameter)
-          << ',' << num(holes[k].centroid.x()) << ',' << num(holes[k].centroid.y()) << '\n';
+          << ',' << num(holes[k].centroid.x()) << ',' << num(holes[k].centroid.y()) << ','
+          << partnerList(c, k, photo_side, " ") << ',' << (std::isfinite(d) ? num(d) : "") << '\n';
+    }
   };
-  rows("photo", c.photo);
-  rows("simulation", c.simulated);
+  rows("photo", true);
+  rows("simulation", false);
   if (!out) throw RunError("cannot write " + path);
 }
 
@@ -75,14 +116,25 @@ void writeJson(const std::string& path, const CompareOptions& o, const std::stri
                double time, const std::string& image, const PhotoSegmentation& seg,
                const HoleComparison& c, const Eigen::Vector2d& centre_px) {
   std::ofstream out(path, std::ios::trunc);
-  const auto holes = [&](const std::vector<HoleSize>& list) {
+  const auto holes = [&](bool photo_side) {
+    const std::vector<HoleSize>& list = photo_side ? c.photo : c.simulated;
     std::string s = "[";
-    for (std::size_t k = 0; k < list.size(); ++k)
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const double d = nearestOther(c, k, photo_side);
       s += std::string(k ? ", " : "") + "{\"area_m2\": " + num(list[k].area) +
            ", \"diameter_m\": " + num(list[k].diameter) + ", \"centroid_uv_m\": [" +
-           num(list[k].centroid.x()) + ", " + num(list[k].centroid.y()) + "]}";
+           num(list[k].centroid.x()) + ", " + num(list[k].centroid.y()) + "], \"overlaps\": [" +
+           partnerList(c, k, photo_side, ", ") +
+           "], \"nearest_other_m\": " + (std::isfinite(d) ? num(d) : "null") + "}";
+    }
     return s + "]";
   };
+  std::string pairs = "[";
+  for (const HolePair& p : c.pairs)
+    pairs += std::string(pairs.size() > 1 ? ", " : "") + "{\"photo\": " +
+             std::to_string(p.photo + 1) + ", \"simulation\": " + std::to_string(p.simulated + 1) +
+             ", \"overlap_m2\": " + num(p.overlap) + ", \"iou\": " + num(p.iou) + "}";
+  pairs += "]";
   std::string quoted = "\"";
   for (char ch : image) quoted += (ch == '"' || ch == '\\') ? std::string("\\") + ch : std::string(1, ch);
   quoted += "\"";
@@ -91,11 +143,11 @@ void writeJson(const std::string& path, const CompareOptions& o, const std::stri
       << ", \"height_px\": " << seg.height << ",\n  \"m_per_px\": " << num(o.m_per_px)
       << ",\n  \"face\": \"" << (o.rear ? "rear" : "front") << "\",\n  \"threshold\": "
       << num(seg.threshold) << ", \"threshold_automatic\": " << (seg.automatic ? "true" : "false")
-      << ",\n  \"registration\": \"" << (o.centre_px ? "centre given" : "hole centroids aligned")
+      << ",\n  \"registration\": \"" << (o.centre_px ? "centre given" : "largest holes' centroids aligned")
       << "\", \"plate_centre_px\": [" << num(centre_px.x()) << ", " << num(centre_px.y()) << "],\n  \"iou\": " << num(c.iou)
       << ", \"photo_px\": " << c.photo_px << ", \"simulation_px\": " << c.simulated_px
-      << ", \"both_px\": " << c.both_px << ", \"simulation_outside_fraction\": " << num(c.simulated_outside) << ",\n  \"photo_holes\": " << holes(c.photo)
-      << ",\n  \"simulation_holes\": " << holes(c.simulated) << "\n}\n";
+      << ", \"both_px\": " << c.both_px << ", \"simulation_outside_fraction\": " << num(c.simulated_outside) << ",\n  \"photo_holes\": " << holes(true)
+      << ",\n  \"simulation_holes\": " << holes(false) << ",\n  \"pairs\": " << pairs << "\n}\n";
   if (!out) throw RunError("cannot write " + path);
 }
 
@@ -110,7 +162,7 @@ void addCompareOptions(CLI::App& cmd, CompareCommandOptions& o) {
       ->required()->check(positiveNumber());
   cmd.add_option("--center", o.center,
                  "X,Y: pixel (column, row from the top left) of the plate's centre "
-                 "(default: align the holes' centroids)");
+                 "(default: align the largest holes' centroids)");
   cmd.add_option("--threshold", o.threshold,
                  "Brightness in (0, 1) between holes and plate (default: Otsu's)")
       ->check(openFraction());
@@ -163,7 +215,7 @@ int compareCommand(const CompareCommandOptions& opt) {
     const HoleComparison cmp = compareHoles(seg, plate, co);
     const Eigen::Vector2d c0 = cmp.frame.toPixel(Eigen::Vector2d::Zero());
     std::printf("  registration: plate centre at pixel (%.1f, %.1f) (%s)\n", c0.x(), c0.y(),
-                co.centre_px ? "given" : "holes' centroids aligned");
+                co.centre_px ? "given" : "largest holes' centroids aligned");
     printHoles("photograph", cmp.photo);
     printHoles("simulation", cmp.simulated);
     std::printf("  IoU %.4f (overlap %zu px, photograph %zu px, simulation %zu px)\n", cmp.iou,
@@ -172,6 +224,7 @@ int compareCommand(const CompareCommandOptions& opt) {
       std::printf("  note: %.0f %% of the simulated holes' area lies outside the photograph and is "
                   "not compared\n",
                   100 * cmp.simulated_outside);
+    printPairs(cmp);
 
     const std::string out = opt.out.empty() ? opt.run_dir + "/compare" : opt.out;
     fs::create_directories(out);

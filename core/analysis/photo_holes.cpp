@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace fesph {
@@ -81,6 +82,7 @@ PhotoSegmentation segmentHoles(const GrayImage& image, const SegmentOptions& o) 
 
   const std::size_t min_area = o.min_area_px > 0 ? static_cast<std::size_t>(o.min_area_px) : 25;
   out.mask.assign(n, 0);
+  out.label.assign(n, 0);
   std::vector<std::uint8_t> seen(n, 0);
   std::vector<std::size_t> stack, cells;
   for (std::size_t start = 0; start < n; ++start) {
@@ -109,13 +111,26 @@ PhotoSegmentation segmentHoles(const GrayImage& image, const SegmentOptions& o) 
     hole.area_px = static_cast<double>(cells.size());
     for (std::size_t c : cells) {
       out.mask[c] = 1;
+      out.label[c] = static_cast<int>(out.holes.size()) + 1;
       hole.centroid_px += Eigen::Vector2d(c % w + 0.5, c / w + 0.5);
     }
     hole.centroid_px /= hole.area_px;
     out.holes.push_back(hole);
   }
-  std::stable_sort(out.holes.begin(), out.holes.end(),
-                   [](const PhotoHole& a, const PhotoHole& b) { return a.area_px > b.area_px; });
+  // Largest first, and the labels renumbered to match.
+  std::vector<std::size_t> order(out.holes.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return out.holes[a].area_px > out.holes[b].area_px;
+  });
+  std::vector<int> relabel(order.size() + 1, 0);
+  std::vector<PhotoHole> sorted;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    relabel[order[k] + 1] = static_cast<int>(k) + 1;
+    sorted.push_back(out.holes[order[k]]);
+  }
+  out.holes = std::move(sorted);
+  for (int& l : out.label) l = relabel[l];
   return out;
 }
 
@@ -154,11 +169,12 @@ Eigen::Vector2d PhotoFrame::toPixel(const Eigen::Vector2d& uv) const {
   return pixel_ref + Eigen::Vector2d(rear ? -d.x() : d.x(), -d.y());
 }
 
-std::vector<std::uint8_t> fillPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
-                                       int width, int height) {
-  std::vector<std::uint8_t> mask(static_cast<std::size_t>(width) * height, 0);
+std::vector<int> fillPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
+                              int width, int height) {
+  std::vector<int> label(static_cast<std::size_t>(width) * height, 0);
   std::vector<double> xs;
-  for (const auto& poly : polygons) {
+  for (std::size_t n = 0; n < polygons.size(); ++n) {
+    const auto& poly = polygons[n];
     if (poly.size() < 3) continue;
     double ylo = 1e300, yhi = -1e300;
     for (const Eigen::Vector2d& p : poly) ylo = std::min(ylo, p.y()), yhi = std::max(yhi, p.y());
@@ -178,11 +194,12 @@ std::vector<std::uint8_t> fillPolygons(const std::vector<std::vector<Eigen::Vect
         // Pixels whose centre i + 0.5 lies in [xs[k], xs[k + 1]).
         const int i0 = std::max(0, static_cast<int>(std::ceil(xs[k] - 0.5)));
         const int i1 = std::min(width, static_cast<int>(std::ceil(xs[k + 1] - 0.5)));
-        for (int i = i0; i < i1; ++i) mask[static_cast<std::size_t>(j) * width + i] = 1;
+        for (int i = i0; i < i1; ++i)
+          label[static_cast<std::size_t>(j) * width + i] = static_cast<int>(n) + 1;
       }
     }
   }
-  return mask;
+  return label;
 }
 
 HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate& plate,
@@ -204,14 +221,10 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
           std::string(photo.holes.empty() ? "no hole found in the photograph"
                                           : "the simulated plate has no through-hole") +
           ": the holes cannot be aligned; give the pixel of the plate's centre");
-    double a = 0;
-    Eigen::Vector2d c = Eigen::Vector2d::Zero();
-    for (const PhotoHole& h : photo.holes) a += h.area_px, c += h.area_px * h.centroid_px;
-    f.pixel_ref = c / a;
-    a = 0;
-    c.setZero();
-    for (const Hole& h : sim.holes) a += h.area, c += h.area * local(h.centroid);
-    f.plate_ref = c / a;
+    f.pixel_ref = photo.holes.front().centroid_px;
+    const auto largest = std::max_element(sim.holes.begin(), sim.holes.end(),
+                                          [](const Hole& a, const Hole& b) { return a.area < b.area; });
+    f.plate_ref = local(largest->centroid);
   }
 
   const double px_area = o.m_per_px * o.m_per_px;
@@ -229,12 +242,32 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
     for (const Vec3& p : h.outline) poly.push_back(f.toPixel(local(p)));
     polygons.push_back(std::move(poly));
   }
-  out.simulated_mask = fillPolygons(polygons, photo.width, photo.height);
-  for (std::size_t p = 0; p < photo.mask.size(); ++p) {
-    out.photo_px += photo.mask[p];
-    out.simulated_px += out.simulated_mask[p];
-    out.both_px += photo.mask[p] & out.simulated_mask[p];
+  const std::vector<int> sim_label = fillPolygons(polygons, photo.width, photo.height);
+  out.simulated_mask.resize(sim_label.size());
+  // Pixels in both, by photographed hole (rows) and simulated hole (columns); and each hole's
+  // own pixel count on this grid, so that a pair's IoU is measured as the whole map's.
+  const std::size_t np = photo.holes.size(), ns = sim.holes.size();
+  std::vector<std::size_t> both(np * ns, 0), photo_count(np, 0), sim_count(ns, 0);
+  for (std::size_t p = 0; p < sim_label.size(); ++p) {
+    const int a = photo.label[p], b = sim_label[p];
+    out.simulated_mask[p] = b > 0;
+    out.photo_px += a > 0;
+    out.simulated_px += b > 0;
+    out.both_px += a > 0 && b > 0;
+    if (a > 0) ++photo_count[a - 1];
+    if (b > 0) ++sim_count[b - 1];
+    if (a > 0 && b > 0) ++both[(a - 1) * ns + (b - 1)];
   }
+  for (std::size_t i = 0; i < np; ++i)
+    for (std::size_t k = 0; k < ns; ++k) {
+      const std::size_t in_both = both[i * ns + k];
+      if (in_both == 0) continue;
+      const double either = static_cast<double>(photo_count[i] + sim_count[k] - in_both);
+      out.pairs.push_back({i, k, static_cast<double>(in_both) * px_area,
+                           static_cast<double>(in_both) / either});
+    }
+  std::stable_sort(out.pairs.begin(), out.pairs.end(),
+                   [](const HolePair& a, const HolePair& b) { return a.overlap > b.overlap; });
   // Filled pixels against the outlines' own area (shoelace), in pixels.
   double outline_px = 0;
   for (const auto& poly : polygons) {
@@ -251,6 +284,21 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
   const std::size_t either = out.photo_px + out.simulated_px - out.both_px;
   out.iou = either > 0 ? static_cast<double>(out.both_px) / static_cast<double>(either) : 0.0;
   return out;
+}
+
+std::vector<std::size_t> partnersOf(const HoleComparison& c, std::size_t hole, bool photo_side) {
+  std::vector<std::size_t> out;
+  for (const HolePair& p : c.pairs)
+    if ((photo_side ? p.photo : p.simulated) == hole) out.push_back(photo_side ? p.simulated : p.photo);
+  return out;
+}
+
+double nearestOther(const HoleComparison& c, std::size_t hole, bool photo_side) {
+  const Eigen::Vector2d& at = (photo_side ? c.photo : c.simulated)[hole].centroid;
+  double best = std::numeric_limits<double>::infinity();
+  for (const HoleSize& h : photo_side ? c.simulated : c.photo)
+    best = std::min(best, (h.centroid - at).norm());
+  return best;
 }
 
 }  // namespace fesph

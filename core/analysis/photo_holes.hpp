@@ -49,6 +49,7 @@ struct PhotoSegmentation {
   double threshold = 0;   ///< the threshold used
   bool automatic = true;  ///< Otsu's (true) or given
   std::vector<std::uint8_t> mask;  ///< per pixel: 1 in a kept hole
+  std::vector<int> label;          ///< per pixel: k + 1 in holes[k], 0 elsewhere
   std::vector<PhotoHole> holes;    ///< largest first
 };
 
@@ -84,8 +85,9 @@ struct PhotoFrame {
 
 struct CompareOptions {
   double m_per_px = 0;  ///< the photograph's scale, m per pixel (> 0)
-  /// Pixel (column, row) where the simulated plate's centre lies. None: the photograph's holes'
-  /// area-weighted centroid is put on the simulated holes' one.
+  /// Pixel (column, row) where the simulated plate's centre lies. None: the photograph's largest
+  /// hole's centroid is put on the simulated plate's largest hole's (the projectile's hole, as
+  /// a rule; the fragment holes, which the two sides need not share, do not pull it).
   std::optional<Eigen::Vector2d> centre_px;
   bool rear = false;  ///< the photograph shows the rear face
 };
@@ -97,9 +99,19 @@ struct HoleSize {
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  ///< plate coordinates (PhotoFrame), m
 };
 
+/// A photographed hole and a simulated hole that overlap on the photograph's pixel grid.
+struct HolePair {
+  std::size_t photo = 0, simulated = 0;  ///< indices into HoleComparison::photo and ::simulated
+  double overlap = 0;  ///< area in both, m^2
+  double iou = 0;      ///< the two holes' own intersection-over-union
+};
+
 struct HoleComparison {
   PhotoFrame frame;
   std::vector<HoleSize> photo, simulated;  ///< largest first
+  /// Every overlapping pair, largest overlap first. A hole in no pair is on one side only: a
+  /// fragment hole the simulation did not make, or one the test plate did not show.
+  std::vector<HolePair> pairs;
   std::vector<std::uint8_t> simulated_mask;  ///< per photograph pixel: 1 in a simulated hole
   std::size_t photo_px = 0, simulated_px = 0, both_px = 0;
   double iou = 0;  ///< |photo ∩ simulated| / |photo ∪ simulated| over the pixels; 0 if both empty
@@ -108,14 +120,24 @@ struct HoleComparison {
 };
 
 /// Register the photograph on the simulated plate and compare the two hole maps on the
-/// photograph's pixel grid (simulated holes: their outline polygons, filled). Throws InputError
-/// for a bad scale, or without centre_px when either side has no hole.
+/// photograph's pixel grid (simulated holes: their outline polygons, filled), as a whole (iou)
+/// and hole by hole (pairs). Throws InputError for a bad scale, or without centre_px when either
+/// side has no hole.
 HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate& plate,
                             const CompareOptions& options);
 
+/// The other side's holes that `hole` overlaps (indices), in pair order; empty for a hole on one
+/// side only. `photo_side`: `hole` indexes the photographed holes, else the simulated ones.
+std::vector<std::size_t> partnersOf(const HoleComparison& c, std::size_t hole, bool photo_side);
+
+/// Distance from a hole's centroid to the nearest centroid of the other side's holes, m;
+/// infinity when the other side has none.
+double nearestOther(const HoleComparison& c, std::size_t hole, bool photo_side);
+
 /// Pixels of a `width` x `height` grid whose centre lies inside one of `polygons` (pixel
-/// coordinates; each polygon closed implicitly, even-odd rule, filled one after the other).
-std::vector<std::uint8_t> fillPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
+/// coordinates; each polygon closed implicitly, even-odd rule, filled one after the other):
+/// k + 1 for a pixel of polygons[k] (the last to cover it), 0 outside all.
+std::vector<int> fillPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
                                        int width, int height);
 
 }  // namespace fesph

@@ -132,8 +132,18 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     // The photograph's hole: the 112 removed columns of 1 mm^2, within 3 %.
     CHECK(jsonNumber(json, "area_m2") == Approx(112e-6).epsilon(0.03));
     const std::string csv = slurp(out / "plate_compare.csv");
-    CHECK(csv.rfind("source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m\nphoto,1,", 0) == 0);
+    CHECK(csv.rfind("source,hole,area_m2,diameter_m,centroid_u_m,centroid_v_m,overlaps,"
+                    "nearest_other_m\nphoto,1,", 0) == 0);
     CHECK(csv.find("\nsimulation,1,") != std::string::npos);
+    // Hole by hole: the one hole of each side overlaps the other's.
+    CHECK(r.out.find("photograph 1 + simulation 1  overlap") != std::string::npos);
+    CHECK(r.out.find("paired: 1 of 1 photographed hole, 1 of 1 simulated") != std::string::npos);
+    CHECK(json.find("\"pairs\": [{\"photo\": 1, \"simulation\": 1, \"overlap_m2\": ") !=
+          std::string::npos);
+    CHECK(json.find("\"overlaps\": [1], \"nearest_other_m\": ") != std::string::npos);
+    // The CSV's row: area, diameter, centroid, then the partner (simulated hole 1) and the
+    // distance to it.
+    CHECK(std::regex_search(csv, std::regex("\nphoto,1,([^,\n]*,){4}1,[-0-9.e]+\n")));
     // Each row the figures of its own source: the CSV's areas are the JSON's, digit for digit
     // (written alike), and the two holes' areas differ.
     const auto csvArea = [&](const std::string& source) {
@@ -203,9 +213,25 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
                            (dir.path / "shifted.png").string() + " --out " + (dir.path / "auto").string());
     REQUIRE(a.code == 0);
     CHECK(jsonNumber(slurp(dir.path / "auto" / "plate_compare.json"), "iou") >= 0.9);
-    CHECK(a.out.find("holes' centroids aligned") != std::string::npos);
+    CHECK(a.out.find("largest holes' centroids aligned") != std::string::npos);
     CHECK(slurp(dir.path / "auto" / "plate_compare.json").find("\"face\": \"front\"") !=
           std::string::npos);
+    // A hole 14.1 mm off (at (-10, -10) mm), clear of the simulated one: no pair, each hole on
+    // its own side, the other's nearest centroid 14.14 mm away.
+    writeGrayPng(photograph(centre, -10, -10), (dir.path / "apart.png").string());
+    const Result apart = runFesph("compare " + base + " --image " + (dir.path / "apart.png").string() +
+                                  " --out " + (dir.path / "apart").string());
+    INFO(apart.out);
+    REQUIRE(apart.code == 0);
+    CHECK(apart.out.find("paired: 0 of 1 photographed hole, 0 of 1 simulated") != std::string::npos);
+    CHECK(apart.out.find("    simulation 1 only  nearest photographed hole ") != std::string::npos);
+    std::smatch m;
+    REQUIRE(std::regex_search(apart.out, m, std::regex("photograph 1 only  nearest simulated hole ([0-9.]+) mm")));
+    CHECK(std::stod(m[1]) == Approx(std::hypot(10.0, 10.0)).margin(0.1));
+    const std::string apart_csv = slurp(dir.path / "apart" / "plate_compare.csv");
+    CHECK(apart_csv.find("\nphoto,1,") != std::string::npos);
+    CHECK(apart_csv.find(",,0.014") != std::string::npos);  // no partner, the nearest in m
+    CHECK(slurp(dir.path / "apart" / "plate_compare.json").find("\"pairs\": []") != std::string::npos);
     // A photograph of the rear face: the JSON says which face it was compared as.
     const Result rear = runFesph("compare " + run + " --face rear --mm-per-px 0.08 --image " +
                                  (dir.path / "shifted.png").string() + " --out " +

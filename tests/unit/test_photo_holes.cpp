@@ -314,3 +314,105 @@ TEST_CASE("polygon fill takes the pixels whose centre is inside", "[unit][analys
   for (auto m : tri) n += m;
   CHECK(n == Approx(10000).epsilon(0.01));
 }
+
+TEST_CASE("polygon fill labels each pixel with its polygon, the later over the earlier",
+          "[unit][analysis]") {
+  // Rectangles x 0..4 and 2..6 on rows 0..2: columns 0-1 the first's, 2-5 the second's.
+  const auto label = fillPolygons({{{0, 0}, {4, 0}, {4, 2}, {0, 2}}, {{2, 0}, {6, 0}, {6, 2}, {2, 2}}}, 8, 3);
+  for (int i = 0; i < 8; ++i) {
+    INFO("column " << i);
+    CHECK(label[i] == (i < 2 ? 1 : i < 6 ? 2 : 0));
+    CHECK(label[16 + i] == 0);  // row 2 lies below both
+  }
+}
+
+TEST_CASE("photograph holes: each pixel is labelled with its hole, largest first",
+          "[unit][analysis]") {
+  // A 5 x 5 square found first (rows 4-8) and a 10 x 10 one below it (rows 20-29): sorted, the
+  // larger is hole 1, and the labels follow the sorting, not the order of discovery.
+  GrayImage img{40, 40, std::vector<float>(40 * 40, 0.3f)};
+  const auto square = [&](int i0, int j0, int n) {
+    for (int j = j0; j < j0 + n; ++j)
+      for (int i = i0; i < i0 + n; ++i) img.value[static_cast<std::size_t>(j) * 40 + i] = 0.0f;
+  };
+  square(20, 4, 5);
+  square(5, 20, 10);
+  SegmentOptions o;
+  o.threshold = 0.15;  // each square exactly its pixels (see the test above)
+  const PhotoSegmentation seg = segmentHoles(img, o);
+  REQUIRE(seg.holes.size() == 2);
+  CHECK(seg.holes[0].area_px == 100);
+  CHECK(seg.holes[1].area_px == 25);
+  std::size_t count[3] = {0, 0, 0};
+  for (int l : seg.label) ++count[l];
+  CHECK(count[1] == 100);
+  CHECK(count[2] == 25);
+  CHECK(seg.label[25 * 40 + 10] == 1);
+  CHECK(seg.label[6 * 40 + 22] == 2);
+}
+
+TEST_CASE("photograph vs simulated holes, hole by hole: pairs, and holes on one side only",
+          "[unit][analysis]") {
+  // The photograph shows kHoles: 8 mm at (-10, -5) mm and 5 mm at (12, 10) mm. The simulated
+  // plate has the large one and a 3 mm hole at (15, -15) mm of its own.
+  const KnownPlate plate = knownPlate(kHoles);
+  const Eigen::Vector2d centre(413.0, 387.0);
+  const PhotoSegmentation seg = segmentHoles(photograph(plate, 800, 800, 0.1, centre));
+  CompareOptions o;
+  o.m_per_px = 0.1 * mm;
+  o.centre_px = centre;
+
+  SECTION("a pair and a hole on each side alone") {
+    const KnownPlate other = knownPlate({{-10, -5, 8}, {15, -15, 3}});
+    const HoleComparison c = compareHoles(seg, simulatedPlate(other.x, other.tets), o);
+    REQUIRE(c.photo.size() == 2);
+    REQUIRE(c.simulated.size() == 2);
+    REQUIRE(c.pairs.size() == 1);
+    CHECK(c.pairs[0].photo == 0);
+    CHECK(c.pairs[0].simulated == 0);
+    // The same removed columns: the overlap is the hole, to the photograph's edge pixels.
+    CHECK(c.pairs[0].overlap == Approx(plate.trueArea(kHoles[0])).epsilon(0.04));
+    CHECK(c.pairs[0].iou >= 0.9);
+    CHECK(partnersOf(c, 0, true) == std::vector<std::size_t>{0});
+    CHECK(partnersOf(c, 0, false) == std::vector<std::size_t>{0});
+    CHECK(partnersOf(c, 1, true).empty());
+    CHECK(partnersOf(c, 1, false).empty());
+    // (12, 10) to (15, -15) mm: 25.18 mm, nearer than (-10, -5) mm at 26.63 mm; both holes'
+    // centroids are those of their discs' removed columns (symmetric), to a pixel's tenth.
+    CHECK(nearestOther(c, 1, true) == Approx(std::hypot(3.0, 25.0) * mm).margin(0.1 * mm));
+    CHECK(nearestOther(c, 1, false) == Approx(std::hypot(3.0, 25.0) * mm).margin(0.1 * mm));
+    CHECK(nearestOther(c, 0, true) < 0.1 * mm);
+  }
+  SECTION("the same map 8 mm off: each hole pairs with its own image, by its own lens") {
+    // Discs r 8 mm 8 mm apart: lens 78.6 mm^2, union 323.5, IoU 0.243; r 5 mm: lens 8.2 mm^2,
+    // union 148.9, IoU 0.055 (the removed columns approximate the discs to ~1 mm^2).
+    const KnownPlate moved = knownPlate({{-2, -5, 8}, {20, 10, 5}});
+    const HoleComparison c = compareHoles(seg, simulatedPlate(moved.x, moved.tets), o);
+    REQUIRE(c.pairs.size() == 2);
+    CHECK(c.pairs[0].photo == 0);
+    CHECK(c.pairs[0].simulated == 0);
+    CHECK(c.pairs[0].iou == Approx(0.243).margin(0.02));
+    CHECK(c.pairs[1].photo == 1);
+    CHECK(c.pairs[1].simulated == 1);
+    CHECK(c.pairs[1].iou == Approx(0.055).margin(0.02));
+  }
+  SECTION("one simulated hole over two photographed holes: both pairs") {
+    const KnownPlate merged = knownPlate({{1, 2.5, 18}});
+    const HoleComparison c = compareHoles(seg, simulatedPlate(merged.x, merged.tets), o);
+    REQUIRE(c.simulated.size() == 1);
+    REQUIRE(c.pairs.size() == 2);
+    CHECK(partnersOf(c, 0, false) == std::vector<std::size_t>{0, 1});
+  }
+  SECTION("without a centre the largest holes are aligned: a fragment hole does not pull") {
+    // The simulated plate: the large hole alone, 8 mm to the right. Aligning all holes'
+    // area-weighted centroids would put the photograph's 5 mm hole into the balance and shift
+    // the plate by 78.5/(201 + 78.5) of (22, 15) mm.
+    const KnownPlate moved = knownPlate({{-2, -5, 8}});
+    o.centre_px.reset();
+    const HoleComparison c = compareHoles(seg, simulatedPlate(moved.x, moved.tets), o);
+    CHECK((c.frame.toPlate(centre) - Eigen::Vector2d(8 * mm, 0)).norm() < 0.1 * mm);
+    REQUIRE(c.pairs.size() == 1);
+    CHECK(c.pairs[0].iou >= 0.9);
+    CHECK(partnersOf(c, 1, true).empty());  // the 5 mm hole: photographed only
+  }
+}
