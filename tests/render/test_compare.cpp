@@ -65,17 +65,22 @@ void writeRun(const fs::path& dir, double hx, double hy, bool half = false) {
                                        "[[bodies]]\nname = \"plate\"\n";
 }
 
+struct Disc {
+  double x, y, r;  ///< mm
+};
+
 /// Photograph of the front face at 0.08 mm/px, the plate's centre at pixel (centre): a plate lit
-/// from 0.55 (left) to 0.75 (right) on a dark background, a hole of radius 6 mm at (hx, hy) mm,
-/// blurred and noisy.
-GrayImage photograph(Eigen::Vector2d centre, double hx, double hy) {
+/// from 0.55 (left) to 0.75 (right) on a dark background, with holes where the 1 mm columns'
+/// centres lie in one of `holes`, blurred and noisy.
+GrayImage photograph(Eigen::Vector2d centre, const std::vector<Disc>& holes) {
   const int w = 640, h = 560;
   GrayImage ideal{w, h, std::vector<float>(static_cast<std::size_t>(w) * h)};
   for (int j = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {
       const double a = (i + 0.5 - centre.x()) * 0.08, b = -(j + 0.5 - centre.y()) * 0.08;
       const double ca = std::floor(a) + 0.5, cb = std::floor(b) + 0.5;
-      const bool plate = std::abs(a) < 20 && std::abs(b) < 20 && std::hypot(ca - hx, cb - hy) >= 6;
+      bool plate = std::abs(a) < 20 && std::abs(b) < 20;
+      for (const Disc& d : holes) plate = plate && std::hypot(ca - d.x, cb - d.y) >= d.r;
       ideal.value[static_cast<std::size_t>(j) * w + i] =
           static_cast<float>(plate ? 0.55 + 0.2 * i / w : 0.1);
     }
@@ -92,6 +97,11 @@ GrayImage photograph(Eigen::Vector2d centre, double hx, double hy) {
       photo.value[static_cast<std::size_t>(j) * w + i] = static_cast<float>(std::clamp(s / 9 + noise, 0.0, 1.0));
     }
   return photo;
+}
+
+/// The photograph of the plate writeRun(hx, hy) makes: one hole of radius 6 mm at (hx, hy) mm.
+GrayImage photograph(Eigen::Vector2d centre, double hx, double hy) {
+  return photograph(centre, {{hx, hy, 6}});
 }
 
 using Result = fesph::testing::CommandResult;
@@ -232,6 +242,15 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     CHECK(apart_csv.find("\nphoto,1,") != std::string::npos);
     CHECK(apart_csv.find(",,0.014") != std::string::npos);  // no partner, the nearest in m
     CHECK(slurp(dir.path / "apart" / "plate_compare.json").find("\"pairs\": []") != std::string::npos);
+    // Two 3 mm holes 4 mm either side of the centre, both inside the simulated 6 mm one: two
+    // pairs, every hole of both sides paired.
+    writeGrayPng(photograph(centre, {{-4, 0, 3}, {4, 0, 3}}), (dir.path / "two.png").string());
+    const Result two = runFesph("compare " + base + " --image " + (dir.path / "two.png").string() +
+                                " --out " + (dir.path / "two").string());
+    INFO(two.out);
+    REQUIRE(two.code == 0);
+    CHECK(two.out.find("photograph: 2 holes") != std::string::npos);
+    CHECK(two.out.find("paired: 2 of 2 photographed holes, 1 of 1 simulated") != std::string::npos);
     // A photograph of the rear face: the JSON says which face it was compared as.
     const Result rear = runFesph("compare " + run + " --face rear --mm-per-px 0.08 --image " +
                                  (dir.path / "shifted.png").string() + " --out " +
