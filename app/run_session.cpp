@@ -128,7 +128,9 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
          << scene_.title << ") from " << checkpoint << " at t = " << model_.time << " s, step "
          << model_.step << std::endl;
   }
-  crossings_ = std::make_unique<PlateCrossings>(saved.crossings, saved.crossings_projectile);
+  const int measured = saved.crossings_projectile;
+  crossings_ = std::make_unique<PlateCrossings>(
+      saved.crossings, measured, measured >= 0 ? model_.bodies[measured].name : std::string());
   // The series and histories go on in the checkpoint's own run folder; another folder gets
   // fresh ones, starting at the checkpoint.
   std::error_code ec;
@@ -444,6 +446,12 @@ void RunSession::printSummary() const {
                 r.cleared ? "it has cleared every target" : "not clear of the targets yet");
   }
   const auto& plates = crossings_->plates();
+  long projectiles = 0;
+  for (const Body& body : model_.bodies) projectiles += body.is_projectile;
+  if (projectiles > 1 && !plates.empty())
+    std::printf("  plate crossings  of projectile '%s', the first of the %ld projectiles (the "
+                "scene's first is measured)\n",
+                crossings_->projectileName().c_str(), projectiles);
   for (std::size_t k = 0; k < plates.size(); ++k) {
     const PlateCrossing& p = plates[k];
     if (p.t_measured >= 0) {

@@ -32,17 +32,21 @@ namespace fesph {
 
 namespace render_detail {
 
+std::vector<std::string> plottedBodies(const std::string& csv) {
+  const RunInfo info = readRunInfo(std::filesystem::path(csv).parent_path().string());
+  std::vector<std::string> out;
+  for (const RunBody& b : info.bodies)
+    if (b.projectile) out.push_back(b.name);
+  if (out.empty() && !info.bodies.empty()) out.push_back(info.bodies.front().name);
+  return out;
+}
+
 VelocitySeries readVelocity(const std::string& csv, std::string body, VelocityMeasure measure) {
   std::ifstream in(csv);
   if (!in) throw RunError("cannot read " + csv);
   if (body.empty()) {
-    const RunInfo info = readRunInfo(std::filesystem::path(csv).parent_path().string());
-    for (const RunBody& b : info.bodies)
-      if (b.projectile) {
-        body = b.name;
-        break;
-      }
-    if (body.empty() && !info.bodies.empty()) body = info.bodies.front().name;
+    const std::vector<std::string> bodies = plottedBodies(csv);
+    if (!bodies.empty()) body = bodies.front();
   }
   std::string line;
   std::getline(in, line);
@@ -130,10 +134,21 @@ std::string renderVelocityPlot(
   styleAxis(chart->GetAxis(vtkAxis::LEFT),
             measure == VelocityMeasure::Speed ? "Velocity (m/s)" : "-v_z (m/s)", font);
 
+  // One curve per run, or per projectile of a run that has several, each labelled by name.
+  std::vector<std::pair<std::string, render_detail::VelocitySeries>> curves;
+  for (const auto& [label, csv] : label_and_history_csv) {
+    std::vector<std::string> bodies = {body};
+    if (body.empty()) {
+      bodies = render_detail::plottedBodies(csv);
+      if (bodies.empty()) bodies = {""};  // readVelocity says what is missing
+    }
+    for (const std::string& b : bodies)
+      curves.emplace_back(bodies.size() > 1 ? label + ": " + b : label,
+                          render_detail::readVelocity(csv, b, measure));
+  }
   double vmin = 0, vmax = 0;
-  for (std::size_t k = 0; k < label_and_history_csv.size(); ++k) {
-    const auto& [label, csv] = label_and_history_csv[k];
-    const render_detail::VelocitySeries s = render_detail::readVelocity(csv, body, measure);
+  for (std::size_t k = 0; k < curves.size(); ++k) {
+    const auto& [label, s] = curves[k];
     vtkNew<vtkTable> table;
     vtkNew<vtkDoubleArray> t, v;
     t->SetName("time");

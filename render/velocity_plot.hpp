@@ -24,7 +24,11 @@ struct VelocitySeries {
   std::vector<double> v;     ///< |v| or -v_z (VelocityMeasure), m/s
 };
 
-/// The <body>_vx, _vy, _vz columns of one history.csv; `body` empty: the run's projectile
+/// The bodies whose velocity is drawn for a run by default: its projectiles (from scene.toml
+/// beside `csv`), else its first body; empty when neither is known.
+std::vector<std::string> plottedBodies(const std::string& csv);
+
+/// The <body>_vx, _vy, _vz columns of one history.csv; `body` empty: the run's first projectile
 /// (from scene.toml beside the file), else its first body. A row cut short (the last row of a
 /// stopped run) is skipped. Throws RunError for a missing file or column, or no row.
 VelocitySeries readVelocity(const std::string& csv, std::string body, VelocityMeasure measure);
@@ -35,9 +39,10 @@ VelocitySeries readVelocity(const std::string& csv, std::string body, VelocityMe
 void curveColour(int k, unsigned char rgb[3]);
 
 /// One curve per (label, history.csv) pair, time in µs against velocity in m/s, with a legend.
-/// `body`: the body whose <body>_vx,_vy,_vz columns are plotted; empty: each run's projectile
-/// (from scene.toml beside its history.csv, else the first body). Only options.width and
-/// options.height are used. Returns `out_png`. Throws RunError (missing file or column).
+/// `body`: the body whose <body>_vx,_vy,_vz columns are plotted; empty: each run's projectiles
+/// (plottedBodies), a curve each, labelled "label: body" where a run has more than one. Only
+/// options.width and options.height are used. Returns `out_png`. Throws RunError (missing file
+/// or column).
 std::string renderVelocityPlot(
     const std::vector<std::pair<std::string, std::string>>& label_and_history_csv,
     const std::string& body, const std::string& out_png, const ImageOptions& options = {},

@@ -107,6 +107,7 @@ PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
     if (model.bodies[b].is_projectile && projectile_ < 0) projectile_ = static_cast<int>(b);
   if (projectile_ < 0) return;
   const Body& pb = model.bodies[projectile_];
+  projectile_name_ = pb.name;
   Vec3 v0 = Vec3::Zero(), c0 = Vec3::Zero();
   double m0 = 0, zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
   for (std::size_t a = pb.node_begin; a < pb.node_end; ++a) {
@@ -147,8 +148,10 @@ PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
   for (PlateCrossing& p : plates_) p.measure_depth = p.thickness + gap;
 }
 
-PlateCrossings::PlateCrossings(std::vector<PlateCrossing> plates, int projectile)
-    : plates_(std::move(plates)), projectile_(projectile) {
+PlateCrossings::PlateCrossings(std::vector<PlateCrossing> plates, int projectile,
+                               std::string projectile_name)
+    : plates_(std::move(plates)), projectile_(projectile),
+      projectile_name_(std::move(projectile_name)) {
   while (next_ < plates_.size() && plates_[next_].t_measured >= 0) ++next_;  // measured in order
 }
 
@@ -177,24 +180,25 @@ void PlateCrossings::update(const Model& model) {
 void PlateCrossings::writeCsv(const std::string& path) const {
   std::string text =
       "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
-      "mass_fraction,through_velocity_m_s,through_mass_fraction\n";
+      "mass_fraction,through_velocity_m_s,through_mass_fraction,projectile\n";
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const PlateCrossing& p = plates_[k];
     char row[512];
     if (p.t_measured >= 0 && !std::isfinite(p.through_mass_fraction))
-      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,,\n", k + 1,
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,,", k + 1,
                     p.name.c_str(), p.t_contact, p.t_measured, p.speed, p.velocity.x(),
                     p.velocity.y(), p.velocity.z(), p.mass_fraction);
     else if (p.t_measured >= 0)
-      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n",
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g",
                     k + 1, p.name.c_str(), p.t_contact, p.t_measured, p.speed, p.velocity.x(),
                     p.velocity.y(), p.velocity.z(), p.mass_fraction, p.through_velocity.norm(),
                     p.through_mass_fraction);
     else if (p.t_contact >= 0)
-      std::snprintf(row, sizeof row, "%zu,%s,%.9g,,,,,,,,\n", k + 1, p.name.c_str(), p.t_contact);
+      std::snprintf(row, sizeof row, "%zu,%s,%.9g,,,,,,,,", k + 1, p.name.c_str(), p.t_contact);
     else
-      std::snprintf(row, sizeof row, "%zu,%s,,,,,,,,,\n", k + 1, p.name.c_str());
+      std::snprintf(row, sizeof row, "%zu,%s,,,,,,,,,", k + 1, p.name.c_str());
     text += row;
+    text += "," + projectile_name_ + "\n";
   }
   // rewritten at every output: through a temporary, so that a run killed mid-write keeps the
   // last complete table, and a write that fails stops the run instead of losing it silently

@@ -80,21 +80,26 @@ std::vector<MaterialRegion> materialByRegion(const Model& model,
 class PlateCrossings {
  public:
   /// The plates of `scene` (bodies with a plate shape) in the order the projectile meets them
-  /// (along its initial velocity). No projectile or no plate: nothing is tracked.
+  /// (along its initial velocity). The projectile measured is the first body marked as one;
+  /// no projectile or no plate: nothing is tracked.
   PlateCrossings(const Scene& scene, const Model& model);
-  /// Continue a tracking saved with a checkpoint: `plates()` and `projectile()` as they were.
-  PlateCrossings(std::vector<PlateCrossing> plates, int projectile);
+  /// Continue a tracking saved with a checkpoint: `plates()` and `projectile()` as they were,
+  /// and the projectile's name.
+  PlateCrossings(std::vector<PlateCrossing> plates, int projectile, std::string projectile_name);
   /// Look at the model after a step; cheap until the projectile nears a measuring plane.
   void update(const Model& model);
   const std::vector<PlateCrossing>& plates() const { return plates_; }
   int projectile() const { return projectile_; }
-  /// residual_velocities.csv: one row per plate, empty fields where nothing was measured.
+  const std::string& projectileName() const { return projectile_name_; }
+  /// residual_velocities.csv: one row per plate, empty fields where nothing was measured; its
+  /// last column names the projectile measured.
   /// Replaces the file whole; throws RunError naming it if it cannot be written.
   void writeCsv(const std::string& path) const;
 
  private:
   std::vector<PlateCrossing> plates_;
   int projectile_ = -1;
+  std::string projectile_name_;
   std::size_t next_ = 0;  ///< the first plate not measured yet
 };
 

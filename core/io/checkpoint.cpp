@@ -535,7 +535,8 @@ template <class Ar> void transfer(Ar& ar, RunProgress& r) {
 }
 
 // The arrays must fit together before step() may index with them.
-void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab) {
+void checkConsistent(const Model& m, const RunProgress& run, const std::string& path,
+                     bool has_pair_stab) {
   auto fail = [&](const std::string& what) {
     throw RunError(path + ": inconsistent checkpoint: " + what);
   };
@@ -616,6 +617,11 @@ void checkConsistent(const Model& m, const std::string& path, bool has_pair_stab
       if (k != n) fail("SPH snapshot arrays of different lengths");
     if (n > np) fail("SPH snapshot of more particles than the model has");
   }
+  // The residual-velocity tracking indexes bodies: the projectile (-1: none) and each plate.
+  if (run.crossings_projectile < -1 || run.crossings_projectile >= static_cast<int>(nb))
+    fail("plate crossings' projectile");
+  for (const PlateCrossing& p : run.crossings)
+    if (p.body < 0 || static_cast<std::size_t>(p.body) >= nb) fail("plate crossings' plate");
 }
 
 }  // namespace
@@ -652,7 +658,7 @@ Model readCheckpoint(const std::string& path, RunProgress& run) {
     const std::string what = e.what();
     throw RunError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
   }
-  checkConsistent(model, path, version >= 3);
+  checkConsistent(model, run, path, version >= 3);
   if (version < 3) restorePairStabilisation(model);
   return model;
 }

@@ -232,6 +232,41 @@ TEST_CASE("a half model's energies are said to be the modelled part's, in the su
   CHECK(has(probe.out, "balance error 0 %\n                " + note));
 }
 
+TEST_CASE("a run with two projectiles says which one its plate crossings measure", "[app]") {
+  // The residual velocities are the scene's first projectile's: with a second one (a follower
+  // 10 mm behind), the summary and residual_velocities.csv said nothing of which was measured.
+  const TempFolder dir("two_projectiles");
+  const std::string follower = R"(
+[[bodies]]
+name = "follower"
+material = "steel_1020"
+projectile = true
+velocity = [0.0, 0.0, -600.0]
+position = [0.0, 0.0, 16.3e-3]
+[bodies.shape]
+type = "projectile"
+nose = "flat"
+diameter = 6e-3
+length = 6e-3
+mesh_size = 1.5e-3
+)";
+  const std::string one = slurp(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml");
+  std::ofstream(dir.path / "two.toml") << one << follower;
+  const Result single = runTestScene("--end-time 1e-7", dir.path);
+  INFO(single.out);
+  REQUIRE(single.code == 0);
+  CHECK(!has(single.out, "plate crossings"));
+  const Result run = command("run two.toml --end-time 1e-7 --out two --quiet --no-images", dir.path);
+  INFO(run.out);
+  REQUIRE(run.code == 0);
+  CHECK(has(run.out, "  plate crossings  of projectile 'projectile', the first of the 2 projectiles"));
+  const std::string csv = slurp(dir.path / "two" / "residual_velocities.csv");
+  CHECK(csv.rfind("plate,name,", 0) == 0);
+  CHECK(has(csv, ",through_mass_fraction,projectile\n1,plate,"));
+  // Its one row ends with the measured body's name (the test scene calls it "projectile").
+  CHECK(csv.substr(csv.find("\n1,plate,")).find(",projectile\n") != std::string::npos);
+}
+
 TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
   // VTK's own messages (coloured, time-stamped, a line from each pipeline stage) are kept for
   // fesph's message instead; the file cut short was read as a series without a "body" array.

@@ -249,6 +249,48 @@ TEST_CASE("velocity plot draws one curve per run", "[unit][render]") {
                   RunError);
 }
 
+TEST_CASE("velocity plot draws a curve per projectile of a run that has several", "[unit][render]") {
+  // A tandem shot: two projectiles, a lead slowed from 800 to 430 m/s and a follower at
+  // 600 m/s throughout. Drawn with the body left open, both are curves of their own; with the
+  // scene naming one projectile, one curve only.
+  unsetenv("DISPLAY");
+  TempFolder dir("plot_projectiles");
+  const fs::path csv = dir.path / "history.csv";
+  {
+    std::ofstream out(csv);
+    out << "time,step,dt,kinetic,plate_vx,plate_vy,plate_vz,lead_vx,lead_vy,lead_vz,"
+           "follower_vx,follower_vy,follower_vz\n";
+    for (int i = 0; i <= 100; ++i) {
+      const double t = i * 0.5e-6;
+      const double v = 430 + 370 / (1 + std::exp((t - 20e-6) / 3e-6));
+      out << t << ',' << i << ",1e-9,0,0,0,0,0,0," << -v << ",0,0,-600\n";
+    }
+  }
+  const auto scene = [&](bool both) {
+    std::ofstream(dir.path / "scene.toml")
+        << "[[bodies]]\nname = \"plate\"\n[[bodies]]\nname = \"lead\"\nprojectile = true\n"
+        << "[[bodies]]\nname = \"follower\"\nprojectile = " << (both ? "true" : "false") << "\n";
+  };
+  ImageOptions options;
+  options.width = 900;
+  options.height = 600;
+  unsigned char c[2][3];
+  curveColour(0, c[0]);
+  curveColour(1, c[1]);
+  scene(true);
+  CHECK(render_detail::plottedBodies(csv.string()) == std::vector<std::string>{"lead", "follower"});
+  Image img = readPng(renderVelocityPlot({{"tandem", csv.string()}}, "", (dir.path / "both.png").string(), options));
+  for (int k = 0; k < 2; ++k) {
+    INFO("curve " << k);
+    CHECK(img.count([&](const unsigned char* p) { return near(p, c[k], 30); }) > 300);
+  }
+  scene(false);
+  CHECK(render_detail::plottedBodies(csv.string()) == std::vector<std::string>{"lead"});
+  img = readPng(renderVelocityPlot({{"tandem", csv.string()}}, "", (dir.path / "one.png").string(), options));
+  CHECK(img.count([&](const unsigned char* p) { return near(p, c[0], 30); }) > 300);
+  CHECK(img.count([&](const unsigned char* p) { return near(p, c[1], 30); }) < 20);
+}
+
 TEST_CASE("velocity histories are read for the projectile, in microseconds", "[unit][render]") {
   TempFolder dir("velocity_read");
   const fs::path csv = dir.path / "history.csv";

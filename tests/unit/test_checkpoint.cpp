@@ -26,6 +26,7 @@
 #include <regex>
 #include <sys/wait.h>
 #include <thread>
+#include <tuple>
 #include <unistd.h>
 #include <type_traits>
 #include <vector>
@@ -578,6 +579,24 @@ TEST_CASE("a checkpoint whose parts do not fit together is refused naming the pa
     const std::string error = checkpointError(path);
     INFO(error);
     CHECK(error.find(path + ": inconsistent checkpoint: " + c.what) != std::string::npos);
+  }
+  // The residual-velocity tracking's body indices: the projectile's and each plate's.
+  const int nb = static_cast<int>(good.bodies.size());
+  for (const auto& [projectile, plate, what] :
+       {std::tuple{nb, 0, "plate crossings' projectile"}, std::tuple{-2, 0, "plate crossings' projectile"},
+        std::tuple{0, nb, "plate crossings' plate"}, std::tuple{0, -1, "plate crossings' plate"}}) {
+    RunProgress run;
+    run.crossings_projectile = projectile;
+    run.crossings.resize(1);
+    run.crossings[0].body = plate;
+    writeCheckpoint(path, good, run);
+    const std::string error = checkpointError(path);
+    INFO(error);
+    CHECK(error.find(path + ": inconsistent checkpoint: " + what) != std::string::npos);
+    run.crossings_projectile = nb - 1;
+    run.crossings[0].body = nb - 1;
+    writeCheckpoint(path, good, run);
+    CHECK(checkpointError(path).empty());
   }
   // What the file itself lays out: a list of groups longer than any model holds, and rows
   // whose offsets run backwards.

@@ -122,7 +122,8 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   ss << in.rdbuf();
   CHECK(ss.str().find("1,first,") != std::string::npos);
   CHECK(ss.str().find("2,second,") != std::string::npos);
-  CHECK(ss.str().find(",through_velocity_m_s,through_mass_fraction") != std::string::npos);
+  CHECK(ss.str().find(",through_velocity_m_s,through_mass_fraction,projectile\n") != std::string::npos);
+  CHECK(ss.str().find(",1,shot\n2,second,") != std::string::npos);  // each row names the shot
 
   // A table that cannot be written is an error naming the file, and the last one stays whole.
   fs::create_directories(dir / "rv.csv.tmp");  // a folder where the temporary must go
@@ -148,7 +149,8 @@ TEST_CASE("a continued run keeps the plates measured before it", "[unit][analysi
   plates[0].t_measured = 5e-6;
   plates[0].velocity = Vec3(0, 0, -777);
   plates[0].speed = 777;
-  PlateCrossings continued(plates, 0);
+  PlateCrossings continued(plates, 0, "shot");
+  CHECK(continued.projectileName() == "shot");
   const Body& shot = m.bodies[0];
   const auto moveShot = [&](double dz) {
     for (std::size_t a = shot.node_begin; a < shot.node_end; ++a) m.nodes.x[a].z() += dz;
@@ -165,6 +167,38 @@ TEST_CASE("a continued run keeps the plates measured before it", "[unit][analysi
   CHECK(continued.plates()[0].speed == 777);
   CHECK(continued.plates()[1].t_measured == 30e-6);
   CHECK(continued.plates()[1].speed == Approx(1000.0).epsilon(1e-12));
+}
+
+TEST_CASE("of several projectiles the scene's first is measured, and named", "[unit][analysis]") {
+  // Reference: plate_crossings.hpp: the first body marked as a projectile. An "escort" shot
+  // 50 mm beside the first, listed after it and then before it.
+  const std::string escort = R"([[bodies]]
+name = "escort"
+material = "steel_4340"
+projectile = true
+velocity = [0, 0, -1000]
+position = [-50e-3, 0, 1e-3]
+[bodies.shape]
+type = "projectile"
+diameter = 4e-3
+length = 6e-3
+mesh_size = 2e-3
+)";
+  const std::string scene = kScene;
+  for (const bool escort_first : {false, true}) {
+    INFO((escort_first ? "escort listed first" : "escort listed last"));
+    const std::string text = escort_first ? scene.substr(0, scene.find("[[bodies]]")) + escort +
+                                                scene.substr(scene.find("[[bodies]]"))
+                                          : scene + escort;
+    const Scene sc = crossingsScene("fesph_crossings_two_shots", text);
+    const Model m = buildModel(sc);
+    const PlateCrossings crossings(sc, m);
+    const std::string measured = escort_first ? "escort" : "shot";
+    CHECK(crossings.projectileName() == measured);
+    REQUIRE(crossings.projectile() >= 0);
+    CHECK(m.bodies[crossings.projectile()].name == measured);
+    CHECK(crossings.plates().size() == 2);  // the other projectile is no plate
+  }
 }
 
 TEST_CASE("a node without mass does not touch a plate", "[unit][analysis]") {
