@@ -70,6 +70,7 @@ struct ReportRun {
   std::vector<double> piece_fraction;    ///< the intact piece's share of the initial mass
   std::vector<double> through_velocity;  ///< all projectile material through the plate, m/s
   std::vector<double> through_fraction;  ///< its share of the initial mass
+  std::string measured;         ///< the projectile the crossings measure (empty: not written)
 };
 
 /// The run's label with `shown` for its folder (its name, or more of its path).
@@ -120,6 +121,7 @@ ReportRun readRun(const fs::path& dir) {
     r.piece_fraction.push_back(number("mass_fraction"));
     r.through_velocity.push_back(number("through_velocity_m_s"));
     r.through_fraction.push_back(number("through_mass_fraction"));
+    if (const auto it = row.find("projectile"); it != row.end()) r.measured = it->second;
   }
   return r;
 }
@@ -315,6 +317,14 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   if (!others.empty())
     md << "\nRuns of another scene than the first (their scene's [reference] differs): " << others
        << ". Their velocities are shown, not compared with this experiment.\n";
+  for (const ReportRun& r : runs) {
+    long projectiles = 0;
+    for (const SceneBody& b : r.scene.bodies) projectiles += b.projectile;
+    if (projectiles > 1)
+      md << "\n" << r.label << " has " << projectiles << " projectiles; its residual velocities "
+         << "are those of " << (r.measured.empty() ? "" : "'" + r.measured + "', ")
+         << "the scene's first.\n";
+  }
 
   // What of the projectile got through each plate: the intact piece against all its material.
   std::ofstream through_csv(out / "through.csv");

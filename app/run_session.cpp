@@ -449,8 +449,7 @@ void RunSession::printSummary() const {
   long projectiles = 0;
   for (const Body& body : model_.bodies) projectiles += body.is_projectile;
   if (projectiles > 1 && !plates.empty())
-    std::printf("  plate crossings  of projectile '%s', the first of the %ld projectiles (the "
-                "scene's first is measured)\n",
+    std::printf("  plate crossings  of projectile '%s', the scene's first of %ld projectiles\n",
                 crossings_->projectileName().c_str(), projectiles);
   for (std::size_t k = 0; k < plates.size(); ++k) {
     const PlateCrossing& p = plates[k];

@@ -259,12 +259,19 @@ mesh_size = 1.5e-3
   const Result run = command("run two.toml --end-time 1e-7 --out two --quiet --no-images", dir.path);
   INFO(run.out);
   REQUIRE(run.code == 0);
-  CHECK(has(run.out, "  plate crossings  of projectile 'projectile', the first of the 2 projectiles"));
+  CHECK(has(run.out, "  plate crossings  of projectile 'projectile', the scene's first of 2 projectiles\n"));
   const std::string csv = slurp(dir.path / "two" / "residual_velocities.csv");
   CHECK(csv.rfind("plate,name,", 0) == 0);
   CHECK(has(csv, ",through_mass_fraction,projectile\n1,plate,"));
   // Its one row ends with the measured body's name (the test scene calls it "projectile").
   CHECK(csv.substr(csv.find("\n1,plate,")).find(",projectile\n") != std::string::npos);
+  // The report says it under the residual velocities.
+  const Result report = command("report two --out report", dir.path);
+  INFO(report.out);
+  REQUIRE(report.code == 0);
+  CHECK(has(slurp(dir.path / "report" / "report.md"),
+            "\nerosion 0.6 (default, two) has 2 projectiles; its residual velocities are those of "
+            "'projectile', the scene's first.\n"));
 }
 
 TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
