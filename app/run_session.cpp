@@ -76,6 +76,14 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
     throw;
   }
   crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
+  if (log && crossings_->headsAway()) {
+    const Body& shot = model_.bodies[crossings_->projectile()];
+    const Vec3 v = bodyMeanVelocity(model_, crossings_->projectile());
+    *log << scene_path << ":" << scene_.bodies[crossings_->projectile()].line
+         << ": warning: projectile '" << shot.name << "' moves away from every plate, at ("
+         << v.x() << ", " << v.y() << ", " << v.z()
+         << ") m/s: no plate will be crossed (is the velocity's sign right?)" << std::endl;
+  }
 
   clearEarlierRun(log);
   openWriters(false, RunProgress{});
@@ -440,10 +448,15 @@ void RunSession::printSummary() const {
                 v.x(), v.y(), v.z());
     if (body.elem_end == body.elem_begin || model.bodies.size() < 2) continue;  // no target
     const ResidualVelocity r = residualVelocity(model, static_cast<int>(b));
+    // Nothing ahead of a projectile that never reached a plate: it went the other way.
+    bool met_none = static_cast<int>(b) == crossings_->projectile() && !crossings_->plates().empty();
+    for (const PlateCrossing& p : crossings_->plates()) met_none = met_none && p.t_contact < 0;
     std::printf("  residual velocity %.1f m/s (largest intact piece, %.1f %% of the initial "
                 "mass; %s)\n",
                 r.speed, 100 * r.mass_fraction,
-                r.cleared ? "it has cleared every target" : "not clear of the targets yet");
+                !r.cleared ? "not clear of the targets yet"
+                : met_none ? "no target ahead of it, and it has reached none"
+                           : "it has cleared every target");
   }
   const auto& plates = crossings_->plates();
   long projectiles = 0;

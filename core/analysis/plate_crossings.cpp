@@ -138,6 +138,7 @@ PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
   std::stable_sort(plates_.begin(), plates_.end(), [&](const auto& a, const auto& b) {
     return (a.front - c0).dot(dir) < (b.front - c0).dot(dir);
   });
+  heads_away_ = !plates_.empty() && (plates_.back().front - c0).dot(dir) < 0;
   // Clear gap between consecutive plates, measured along the normal of the first one.
   double gap = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k + 1 < plates_.size(); ++k) {

@@ -91,6 +91,9 @@ class PlateCrossings {
   const std::vector<PlateCrossing>& plates() const { return plates_; }
   int projectile() const { return projectile_; }
   const std::string& projectileName() const { return projectile_name_; }
+  /// At the start, every plate lay behind the projectile along its velocity: it moves away
+  /// from the target (a velocity's sign typed wrong, as a rule), and no plate will be crossed.
+  bool headsAway() const { return heads_away_; }
   /// residual_velocities.csv: one row per plate, empty fields where nothing was measured; its
   /// last column names the projectile measured.
   /// Replaces the file whole; throws RunError naming it if it cannot be written.
@@ -100,6 +103,7 @@ class PlateCrossings {
   std::vector<PlateCrossing> plates_;
   int projectile_ = -1;
   std::string projectile_name_;
+  bool heads_away_ = false;
   std::size_t next_ = 0;  ///< the first plate not measured yet
 };
 

@@ -274,6 +274,25 @@ mesh_size = 1.5e-3
             "'projectile', the scene's first.\n"));
 }
 
+TEST_CASE("a projectile shot away from the plates is warned of, and not said to have cleared them",
+          "[app]") {
+  // A velocity's sign typed wrong: the run went on silently, and its summary said the
+  // projectile "has cleared every target" it never reached.
+  const TempFolder dir("shot_away");
+  const Result towards = runTestScene("--end-time 1e-7", dir.path);
+  INFO(towards.out);
+  REQUIRE(towards.code == 0);
+  CHECK(!has(towards.out, "warning"));
+  CHECK(!has(towards.out, "it has reached none"));
+  const Result away = runTestScene("--end-time 1e-7 --set bodies.0.velocity=[0,0,600]", dir.path);
+  INFO(away.out);
+  REQUIRE(away.code == 0);
+  CHECK(has(away.out, "/shell_scene.toml:17: warning: projectile 'projectile' moves away from "
+                      "every plate, at (0, 0, 600) m/s: no plate will be crossed"));
+  CHECK(has(away.out, "no target ahead of it, and it has reached none)"));
+  CHECK(!has(away.out, "it has cleared every target"));
+}
+
 TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
   // VTK's own messages (coloured, time-stamped, a line from each pipeline stage) are kept for
   // fesph's message instead; the file cut short was read as a series without a "body" array.

@@ -201,6 +201,20 @@ mesh_size = 2e-3
   }
 }
 
+TEST_CASE("a projectile that moves away from every plate is told apart", "[unit][analysis]") {
+  // Reference: plate_crossings.hpp: headsAway when every plate lies behind the projectile
+  // along its velocity. The shot of the scene above towards its plates, then turned round.
+  std::string text = kScene;
+  const Scene towards = crossingsScene("fesph_crossings_towards", text);
+  CHECK_FALSE(PlateCrossings(towards, buildModel(towards)).headsAway());
+  const std::string v = "velocity = [0, 0, -1000]";
+  text.replace(text.find(v), v.size(), "velocity = [0, 0, 1000]");
+  const Scene away = crossingsScene("fesph_crossings_away", text);
+  const PlateCrossings crossings(away, buildModel(away));
+  CHECK(crossings.headsAway());
+  CHECK(crossings.plates().size() == 2);
+}
+
 TEST_CASE("a node without mass does not touch a plate", "[unit][analysis]") {
   // Reference: plate_crossings.hpp: t_contact is when the projectile's leading live node
   // reaches the front face. A node whose elements are all gone (mass 0, left drifting) is no
