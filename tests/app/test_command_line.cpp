@@ -291,6 +291,14 @@ TEST_CASE("a projectile shot away from the plates is warned of, and not said to 
                       "every plate, at (0, 0, 600) m/s: no plate will be crossed"));
   CHECK(has(away.out, "no target ahead of it, and it has reached none)"));
   CHECK(!has(away.out, "it has cleared every target"));
+  // Shot past the plate's edge (the plate 30 mm aside): it reaches the plate's plane and
+  // clears it in 20 us at 600 m/s, untouched.
+  const Result past = runTestScene("--end-time 2e-5 --set bodies.1.position=[30e-3,0,0]", dir.path);
+  INFO(past.out);
+  REQUIRE(past.code == 0);
+  CHECK(!has(past.out, "warning"));
+  CHECK(has(past.out, "residual velocity 600.0 m/s (largest intact piece, 100.0 % of the initial "
+                      "mass; it has cleared every target)"));
 }
 
 TEST_CASE("a series file cut short or not VTK is named with VTK's cause, in one line", "[app]") {
