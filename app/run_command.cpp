@@ -27,6 +27,21 @@ void useThreads(int threads) {
                  threads, omp_get_num_procs(), omp_get_num_procs() == 1 ? "" : "s");
 }
 
+namespace {
+
+/// A time typed in seconds where microseconds were meant (30 for 30e-6) shows in the first
+/// step: a run of billions of steps, and a log without a progress line for days.
+void warnOfManySteps(const Model& m, double end_time) {
+  const double steps = (end_time - m.time) / m.dt;
+  if (steps > 1e7)
+    std::fprintf(stderr,
+                 "warning: reaching t = %.6g s takes about %.2g steps at the first step's dt = %.3g s "
+                 "(scene times are in seconds: 30e-6 for 30 us)\n",
+                 end_time, steps, m.dt);
+}
+
+}  // namespace
+
 int runCommand(const RunOptions& opt) {
   std::vector<std::string> overrides = opt.overrides;
   if (opt.end_time > 0) {
@@ -54,7 +69,12 @@ int runCommand(const RunOptions& opt) {
   std::printf("Running to t = %.6g s, output every %.6g s, %d threads\n", session.endTime(),
               session.scene().output.interval, omp_get_max_threads());
   Progress progress(session.endTime(), !opt.quiet);
-  session.onStep([&](const Model& m) { progress.update(m.time, m.step, m.dt); });
+  bool first_step = true;
+  session.onStep([&](const Model& m) {
+    if (first_step) warnOfManySteps(m, session.endTime());
+    first_step = false;
+    progress.update(m.time, m.step, m.dt);
+  });
   int code = 0;
   const StopReason why = session.advance(session.endTime(), -1, installStopSignals());
   if (why == StopReason::Failed) {

@@ -511,6 +511,28 @@ TEST_CASE("an interrupted run leaves its checkpoint and draws no images", "[app]
   CHECK(has(log, "checkpoint written to"));
   CHECK(has(slurp(run / "summary.toml"), "\nstatus = \"interrupted\"\n"));
   CHECK(!fs::exists(run / "images"));
+  CHECK(!has(log, "warning"));  // 1 ms: some thousands of steps
+}
+
+TEST_CASE("an end time typed in seconds for microseconds is warned of at the first step", "[app]") {
+  // 30 for 30e-6: billions of steps, and a log with no progress line before 10 % of them.
+  const TempFolder dir("end_time_units");
+  const fs::path run = dir.path / "run";
+  const pid_t pid = fesph::testing::startAndWait(
+      std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR +
+          "/shell_scene.toml --end-time 30 --out " + run.string() + " > " +
+          (dir.path / "log").string() + " 2>&1",
+      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 3; });
+  REQUIRE(pid > 0);
+  fesph::testing::signalAndWait(pid, SIGINT);
+  const std::string log = slurp(dir.path / "log");
+  INFO(log);
+  std::smatch m;
+  REQUIRE(std::regex_search(log, m, std::regex("warning: reaching t = 30 s takes about ([0-9.e+]+) "
+                                               "steps at the first step's dt = ([0-9.e+-]+) s "
+                                               "\\(scene times are in seconds")));
+  CHECK(std::stod(m[1]) == Approx(30 / std::stod(m[2])).epsilon(0.01));
+  CHECK(occurrences(log, "warning") == 1);  // once, not at every step
 }
 
 TEST_CASE("a run into a folder another run is writing in is refused, and that run goes on",
