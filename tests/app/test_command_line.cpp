@@ -68,6 +68,19 @@ long summarySteps(const fs::path& summary) {
   return std::stol(m[1]);
 }
 
+/// fesph run of the test scene with `--end-time ARGS` into `dir`/run, stopped by SIGINT once
+/// its history has 4 lines; its exit code and its log (stdout and stderr).
+std::pair<int, std::string> interruptedRun(const fs::path& dir, const std::string& args) {
+  const fs::path run = dir / "run";
+  const pid_t pid = fesph::testing::startAndWait(
+      std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR + "/shell_scene.toml --end-time " +
+          args + " --out " + run.string() + " > " + (dir / "log").string() + " 2>&1",
+      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 4; });
+  REQUIRE(pid > 0);
+  const int code = fesph::testing::signalAndWait(pid, SIGINT);
+  return {code, slurp(dir / "log")};
+}
+
 }  // namespace
 
 TEST_CASE("fesph run, render and compare: a scene named from its own folder, and times given wrong",
@@ -498,14 +511,7 @@ TEST_CASE("an interrupted run leaves its checkpoint and draws no images", "[app]
   // user waiting for the images of a run that has not ended (fesph render draws them).
   const TempFolder dir("interrupted");
   const fs::path run = dir.path / "run";
-  const pid_t pid = fesph::testing::startAndWait(
-      std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR +
-          "/shell_scene.toml --end-time 1e-3 --out " + run.string() + " --quiet > " +
-          (dir.path / "log").string() + " 2>&1",
-      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 4; });
-  REQUIRE(pid > 0);
-  const int code = fesph::testing::signalAndWait(pid, SIGINT);
-  const std::string log = slurp(dir.path / "log");
+  const auto [code, log] = interruptedRun(dir.path, "1e-3 --quiet");
   INFO(log);
   CHECK(code == 1);
   CHECK(has(log, "checkpoint written to"));
@@ -517,15 +523,7 @@ TEST_CASE("an interrupted run leaves its checkpoint and draws no images", "[app]
 TEST_CASE("an end time typed in seconds for microseconds is warned of at the first step", "[app]") {
   // 30 for 30e-6: billions of steps, and a log with no progress line before 10 % of them.
   const TempFolder dir("end_time_units");
-  const fs::path run = dir.path / "run";
-  const pid_t pid = fesph::testing::startAndWait(
-      std::string(FESPH_BINARY) + " run " + FESPH_TEST_APP_DIR +
-          "/shell_scene.toml --end-time 30 --out " + run.string() + " > " +
-          (dir.path / "log").string() + " 2>&1",
-      [&] { return occurrences(slurp(run / "history.csv"), "\n") >= 3; });
-  REQUIRE(pid > 0);
-  fesph::testing::signalAndWait(pid, SIGINT);
-  const std::string log = slurp(dir.path / "log");
+  const std::string log = interruptedRun(dir.path, "30").second;
   INFO(log);
   std::smatch m;
   REQUIRE(std::regex_search(log, m, std::regex("warning: reaching t = 30 s takes about ([0-9.e+]+) "

@@ -226,11 +226,15 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     CHECK(a.out.find("largest holes' centroids aligned") != std::string::npos);
     CHECK(slurp(dir.path / "auto" / "plate_compare.json").find("\"face\": \"front\"") !=
           std::string::npos);
+    // A photograph written as NAME.png and compared into the folder NAME.
+    const auto comparePhoto = [&](const GrayImage& photo, const std::string& name) {
+      const std::string png = (dir.path / (name + ".png")).string();
+      writeGrayPng(photo, png);
+      return runFesph("compare " + base + " --image " + png + " --out " + (dir.path / name).string());
+    };
     // A hole 14.1 mm off (at (-10, -10) mm), clear of the simulated one: no pair, each hole on
     // its own side, the other's nearest centroid 14.14 mm away.
-    writeGrayPng(photograph(centre, -10, -10), (dir.path / "apart.png").string());
-    const Result apart = runFesph("compare " + base + " --image " + (dir.path / "apart.png").string() +
-                                  " --out " + (dir.path / "apart").string());
+    const Result apart = comparePhoto(photograph(centre, -10, -10), "apart");
     INFO(apart.out);
     REQUIRE(apart.code == 0);
     CHECK(apart.out.find("paired: 0 of 1 photographed hole, 0 of 1 simulated") != std::string::npos);
@@ -244,9 +248,7 @@ TEST_CASE("fesph compare: matching and shifted photographs of a perforated plate
     CHECK(slurp(dir.path / "apart" / "plate_compare.json").find("\"pairs\": []") != std::string::npos);
     // Two 3 mm holes 4 mm either side of the centre, both inside the simulated 6 mm one: two
     // pairs, every hole of both sides paired.
-    writeGrayPng(photograph(centre, {{-4, 0, 3}, {4, 0, 3}}), (dir.path / "two.png").string());
-    const Result two = runFesph("compare " + base + " --image " + (dir.path / "two.png").string() +
-                                " --out " + (dir.path / "two").string());
+    const Result two = comparePhoto(photograph(centre, {{-4, 0, 3}, {4, 0, 3}}), "two");
     INFO(two.out);
     REQUIRE(two.code == 0);
     CHECK(two.out.find("photograph: 2 holes") != std::string::npos);

@@ -89,6 +89,12 @@ GrayImage photograph(const KnownPlate& plate, int w, int h, double mm_px, Eigen:
 
 const std::vector<Circle> kHoles = {{-10, -5, 8}, {12, 10, 5}};
 
+/// An n x n square of black (0) pixels from column i0, row j0.
+void darkSquare(GrayImage& img, int i0, int j0, int n) {
+  for (int j = j0; j < j0 + n; ++j)
+    for (int i = i0; i < i0 + n; ++i) img.value[static_cast<std::size_t>(j) * img.width + i] = 0.0f;
+}
+
 }  // namespace
 
 TEST_CASE("Otsu's threshold splits a two-level histogram between its levels", "[unit][analysis]") {
@@ -135,14 +141,10 @@ TEST_CASE("photograph holes: exact pixel counts of dark squares at a fixed thres
   // pixels; at 0.27 it gains the row beside each side but not the corners (A: 100 + 40).
   // B and C touch the border: never holes. D (16 pixels) is under the default 25.
   GrayImage img{60, 40, std::vector<float>(60 * 40, 0.3f)};
-  const auto square = [&](int i0, int j0, int n) {
-    for (int j = j0; j < j0 + n; ++j)
-      for (int i = i0; i < i0 + n; ++i) img.value[static_cast<std::size_t>(j) * 60 + i] = 0.0f;
-  };
-  square(10, 15, 10);  // A
-  square(30, 0, 10);   // B, on the top edge
-  square(45, 30, 10);  // C, on the bottom edge
-  square(30, 18, 4);   // D
+  darkSquare(img, 10, 15, 10);  // A
+  darkSquare(img, 30, 0, 10);   // B, on the top edge
+  darkSquare(img, 45, 30, 10);  // C, on the bottom edge
+  darkSquare(img, 30, 18, 4);   // D
   SegmentOptions o;
   o.threshold = 0.15;
   PhotoSegmentation seg = segmentHoles(img, o);
@@ -331,12 +333,8 @@ TEST_CASE("photograph holes: each pixel is labelled with its hole, largest first
   // A 5 x 5 square found first (rows 4-8) and a 10 x 10 one below it (rows 20-29): sorted, the
   // larger is hole 1, and the labels follow the sorting, not the order of discovery.
   GrayImage img{40, 40, std::vector<float>(40 * 40, 0.3f)};
-  const auto square = [&](int i0, int j0, int n) {
-    for (int j = j0; j < j0 + n; ++j)
-      for (int i = i0; i < i0 + n; ++i) img.value[static_cast<std::size_t>(j) * 40 + i] = 0.0f;
-  };
-  square(20, 4, 5);
-  square(5, 20, 10);
+  darkSquare(img, 20, 4, 5);
+  darkSquare(img, 5, 20, 10);
   SegmentOptions o;
   o.threshold = 0.15;  // each square exactly its pixels (see the test above)
   const PhotoSegmentation seg = segmentHoles(img, o);

@@ -169,38 +169,6 @@ TEST_CASE("a continued run keeps the plates measured before it", "[unit][analysi
   CHECK(continued.plates()[1].speed == Approx(1000.0).epsilon(1e-12));
 }
 
-TEST_CASE("of several projectiles the scene's first is measured, and named", "[unit][analysis]") {
-  // Reference: plate_crossings.hpp: the first body marked as a projectile. An "escort" shot
-  // 50 mm beside the first, listed after it and then before it.
-  const std::string escort = R"([[bodies]]
-name = "escort"
-material = "steel_4340"
-projectile = true
-velocity = [0, 0, -1000]
-position = [-50e-3, 0, 1e-3]
-[bodies.shape]
-type = "projectile"
-diameter = 4e-3
-length = 6e-3
-mesh_size = 2e-3
-)";
-  const std::string scene = kScene;
-  for (const bool escort_first : {false, true}) {
-    INFO((escort_first ? "escort listed first" : "escort listed last"));
-    const std::string text = escort_first ? scene.substr(0, scene.find("[[bodies]]")) + escort +
-                                                scene.substr(scene.find("[[bodies]]"))
-                                          : scene + escort;
-    const Scene sc = crossingsScene("fesph_crossings_two_shots", text);
-    const Model m = buildModel(sc);
-    const PlateCrossings crossings(sc, m);
-    const std::string measured = escort_first ? "escort" : "shot";
-    CHECK(crossings.projectileName() == measured);
-    REQUIRE(crossings.projectile() >= 0);
-    CHECK(m.bodies[crossings.projectile()].name == measured);
-    CHECK(crossings.plates().size() == 2);  // the other projectile is no plate
-  }
-}
-
 TEST_CASE("a projectile that moves away from every plate is told apart", "[unit][analysis]") {
   // Reference: plate_crossings.hpp: headsAway when every plate lies behind the projectile
   // along its velocity. The shot of the scene above towards its plates, then turned round.
@@ -235,20 +203,21 @@ TEST_CASE("a node without mass does not touch a plate", "[unit][analysis]") {
   CHECK(crossings.plates()[0].t_contact == 2e-6);
 }
 
-TEST_CASE("the first projectile is measured, and behind a lone plate a projectile length on",
+TEST_CASE("the first projectile is measured and named, and behind a lone plate a projectile length on",
           "[unit][analysis]") {
   // Reference: plate_crossings.hpp: v_k is the first projectile's (in scene order); the
   // measuring plane lies a clear gap behind the rear face, and with no second plate to make a
   // gap, the projectile's length along its flight. One plate 2 mm thick, front at z = -5 mm;
   // the shot (6 mm long, 1000 m/s) and a decoy projectile beside it (12 mm, 500 m/s): the
-  // plane is 2 + 6 = 8 mm behind the front face, and v_1 the shot's.
+  // plane is 2 + 6 = 8 mm behind the front face, and v_1 the shot's. The decoy listed first is
+  // the one measured.
   std::string text = kScene;
   const std::size_t second = text.find("[[bodies]]\nname = \"second\"");
   const std::size_t first = text.find("[[bodies]]\nname = \"first\"");
   REQUIRE(second != std::string::npos);
   REQUIRE(first != std::string::npos);
   text.erase(second, first - second);
-  text += R"([[bodies]]
+  const std::string decoy = R"([[bodies]]
 name = "decoy"
 material = "steel_4340"
 projectile = true
@@ -260,11 +229,24 @@ diameter = 4e-3
 length = 12e-3
 mesh_size = 3e-3
 )";
+  {  // the decoy listed first is the one measured, and named so (12 mm long: plane 14 mm on)
+    const std::size_t bodies = text.find("[[bodies]]");
+    const Scene sc = crossingsScene("fesph_crossings_decoy_first",
+                                    text.substr(0, bodies) + decoy + text.substr(bodies));
+    const Model m = buildModel(sc);
+    const PlateCrossings crossings(sc, m);
+    CHECK(crossings.projectileName() == "decoy");
+    CHECK(m.bodies[crossings.projectile()].name == "decoy");
+    REQUIRE(crossings.plates().size() == 1);
+    CHECK(crossings.plates()[0].measure_depth == Approx(14e-3).epsilon(1e-12));
+  }
+  text += decoy;
   const Scene sc = crossingsScene("fesph_crossings_lone", text);
   Model m = buildModel(sc);
   REQUIRE(m.bodies.size() == 3);
   REQUIRE(m.bodies[2].is_projectile);
   PlateCrossings crossings(sc, m);
+  CHECK(crossings.projectileName() == "shot");
   REQUIRE(crossings.plates().size() == 1);
   CHECK(crossings.plates()[0].measure_depth == Approx(8e-3).epsilon(1e-12));
   // the shot's nose (1 mm) moved to -13.5 mm, tail at -7.5 mm, past the rear face (-7 mm)
