@@ -57,18 +57,19 @@ void writePng(const std::uint8_t* pixels, int width, int height, int components,
 
 std::uint8_t grey8(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255 + 0.5f); }
 
-// Pixels of `mask` with a 4-neighbour outside it: the outline drawn on the images.
-bool onEdge(const std::vector<std::uint8_t>& mask, int w, int h, int i, int j) {
+// Pixels in a hole of `label` (> 0) with a 4-neighbour outside every hole: the outline drawn
+// on the images.
+bool onEdge(const std::vector<int>& label, int w, int h, int i, int j) {
   const auto at = [&](int a, int b) {
-    return a >= 0 && b >= 0 && a < w && b < h && mask[static_cast<std::size_t>(b) * w + a];
+    return a >= 0 && b >= 0 && a < w && b < h && label[static_cast<std::size_t>(b) * w + a] > 0;
   };
   return at(i, j) && !(at(i - 1, j) && at(i + 1, j) && at(i, j - 1) && at(i, j + 1));
 }
 
 // An outline two pixels wide, so it stays visible on large photographs viewed small.
-bool nearEdge(const std::vector<std::uint8_t>& mask, int w, int h, int i, int j) {
-  return onEdge(mask, w, h, i, j) || (i > 0 && onEdge(mask, w, h, i - 1, j)) ||
-         (j > 0 && onEdge(mask, w, h, i, j - 1));
+bool nearEdge(const std::vector<int>& label, int w, int h, int i, int j) {
+  return onEdge(label, w, h, i, j) || (i > 0 && onEdge(label, w, h, i - 1, j)) ||
+         (j > 0 && onEdge(label, w, h, i, j - 1));
 }
 
 }  // namespace
@@ -151,13 +152,13 @@ void writeSideBySide(const GrayImage& photo, const PhotoSegmentation& seg,
     for (int i = 0; i < w; ++i) {
       const std::size_t p = static_cast<std::size_t>(j) * w + i;
       const std::uint8_t g = grey8(photo.value[p]);
-      out.set(i, j, nearEdge(seg.mask, w, h, i, j) ? std::array<std::uint8_t, 3>{228, 26, 28}
+      out.set(i, j, nearEdge(seg.label, w, h, i, j) ? std::array<std::uint8_t, 3>{228, 26, 28}
                                                    : std::array<std::uint8_t, 3>{g, g, g});
       const bool inside = i + 0.5 >= lo.x() && i + 0.5 < hi.x() && j + 0.5 >= lo.y() && j + 0.5 < hi.y();
       std::array<std::uint8_t, 3> s = inside ? std::array<std::uint8_t, 3>{190, 190, 190}
                                              : std::array<std::uint8_t, 3>{70, 70, 70};
-      if (cmp.simulated_mask[p]) s = {15, 15, 15};
-      if (nearEdge(cmp.simulated_mask, w, h, i, j)) s = {31, 120, 230};
+      if (cmp.simulated_label[p] > 0) s = {15, 15, 15};
+      if (nearEdge(cmp.simulated_label, w, h, i, j)) s = {31, 120, 230};
       out.set(w + gap + i, j, s);
     }
   writePng(out.rgb.data(), out.width, out.height, 3, path);
@@ -172,7 +173,7 @@ void writeOverlay(const GrayImage& photo, const PhotoSegmentation& seg, const Ho
       const std::size_t p = static_cast<std::size_t>(j) * w + i;
       const float g = 0.35f + 0.5f * std::clamp(photo.value[p], 0.0f, 1.0f);  // dimmed, never black
       std::array<float, 3> c = {g, g, g};
-      const bool in_photo = seg.mask[p], in_sim = cmp.simulated_mask[p];
+      const bool in_photo = seg.label[p] > 0, in_sim = cmp.simulated_label[p] > 0;
       if (in_photo || in_sim) {
         const std::array<float, 3> tint = in_photo && in_sim ? std::array<float, 3>{0.10f, 0.70f, 0.15f}
                                           : in_photo         ? std::array<float, 3>{0.89f, 0.10f, 0.11f}

@@ -81,7 +81,6 @@ PhotoSegmentation segmentHoles(const GrayImage& image, const SegmentOptions& o) 
     hole_class[p] = o.dark_holes ? s.value[p] < out.threshold : s.value[p] >= out.threshold;
 
   const std::size_t min_area = o.min_area_px > 0 ? static_cast<std::size_t>(o.min_area_px) : 25;
-  out.mask.assign(n, 0);
   out.label.assign(n, 0);
   std::vector<std::uint8_t> seen(n, 0);
   std::vector<std::size_t> stack, cells;
@@ -110,7 +109,6 @@ PhotoSegmentation segmentHoles(const GrayImage& image, const SegmentOptions& o) 
     PhotoHole hole;
     hole.area_px = static_cast<double>(cells.size());
     for (std::size_t c : cells) {
-      out.mask[c] = 1;
       out.label[c] = static_cast<int>(out.holes.size()) + 1;
       hole.centroid_px += Eigen::Vector2d(c % w + 0.5, c / w + 0.5);
     }
@@ -242,15 +240,13 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
     for (const Vec3& p : h.outline) poly.push_back(f.toPixel(local(p)));
     polygons.push_back(std::move(poly));
   }
-  const std::vector<int> sim_label = fillPolygons(polygons, photo.width, photo.height);
-  out.simulated_mask.resize(sim_label.size());
+  out.simulated_label = fillPolygons(polygons, photo.width, photo.height);
   // Pixels in both, by photographed hole (rows) and simulated hole (columns); and each hole's
   // own pixel count on this grid, so that a pair's IoU is measured as the whole map's.
   const std::size_t np = photo.holes.size(), ns = sim.holes.size();
   std::vector<std::size_t> both(np * ns, 0), photo_count(np, 0), sim_count(ns, 0);
-  for (std::size_t p = 0; p < sim_label.size(); ++p) {
-    const int a = photo.label[p], b = sim_label[p];
-    out.simulated_mask[p] = b > 0;
+  for (std::size_t p = 0; p < out.simulated_label.size(); ++p) {
+    const int a = photo.label[p], b = out.simulated_label[p];
     out.photo_px += a > 0;
     out.simulated_px += b > 0;
     out.both_px += a > 0 && b > 0;

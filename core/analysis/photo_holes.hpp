@@ -48,8 +48,7 @@ struct PhotoSegmentation {
   int width = 0, height = 0;
   double threshold = 0;   ///< the threshold used
   bool automatic = true;  ///< Otsu's (true) or given
-  std::vector<std::uint8_t> mask;  ///< per pixel: 1 in a kept hole
-  std::vector<int> label;          ///< per pixel: k + 1 in holes[k], 0 elsewhere
+  std::vector<int> label;        ///< per pixel: k + 1 in holes[k], 0 outside every kept hole
   std::vector<PhotoHole> holes;    ///< largest first
 };
 
@@ -112,7 +111,9 @@ struct HoleComparison {
   /// Every overlapping pair, largest overlap first. A hole in no pair is on one side only: a
   /// fragment hole the simulation did not make, or one the test plate did not show.
   std::vector<HolePair> pairs;
-  std::vector<std::uint8_t> simulated_mask;  ///< per photograph pixel: 1 in a simulated hole
+  /// Per photograph pixel: k + 1 in simulated[k]'s outline (the later one where two overlap),
+  /// 0 outside every simulated hole.
+  std::vector<int> simulated_label;
   std::size_t photo_px = 0, simulated_px = 0, both_px = 0;
   double iou = 0;  ///< |photo ∩ simulated| / |photo ∪ simulated| over the pixels; 0 if both empty
   /// Share of the simulated holes' area that falls outside the photograph (not compared).
@@ -138,6 +139,6 @@ double nearestOther(const HoleComparison& c, std::size_t hole, bool photo_side);
 /// coordinates; each polygon closed implicitly, even-odd rule, filled one after the other):
 /// k + 1 for a pixel of polygons[k] (the last to cover it), 0 outside all.
 std::vector<int> fillPolygons(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
-                                       int width, int height);
+                              int width, int height);
 
 }  // namespace fesph

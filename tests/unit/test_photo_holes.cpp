@@ -152,7 +152,7 @@ TEST_CASE("photograph holes: exact pixel counts of dark squares at a fixed thres
   CHECK(seg.holes[0].area_px == 100);
   CHECK(seg.holes[0].centroid_px == Eigen::Vector2d(15.0, 20.0));  // pixel centres at i + 0.5
   std::size_t masked = 0;
-  for (auto m : seg.mask) masked += m;
+  for (int l : seg.label) masked += l > 0;
   CHECK(masked == 100);
   o.min_area_px = 16;  // D is kept from 16 pixels on
   seg = segmentHoles(img, o);
