@@ -95,27 +95,21 @@ TEST_CASE("a scene named without its folder finds a material library", "[unit][s
 TEST_CASE("a typo'd key is an error at its line", "[unit][scene]") {
   const std::string path =
       writeScene("typo.toml", replace(kGoodScene, "end_time = 1e-6", "end_tme = 1e-6"));
-  try {
-    loadScene(path, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    REQUIRE(e.file() == path);
-    REQUIRE(e.line() == 3);
-    REQUIRE(std::string(e.what()).find("did you mean 'end_time'") != std::string::npos);
-  }
+  const auto error = thrownBy([&] { loadScene(path, {}, library()); });
+  REQUIRE(error);
+  REQUIRE(error->file() == path);
+  REQUIRE(error->line() == 3);
+  REQUIRE(std::string(error->what()).find("did you mean 'end_time'") != std::string::npos);
   REQUIRE(runCli(path) == 2);
 }
 
 TEST_CASE("an unknown material is an error at its line", "[unit][scene]") {
   const std::string path =
       writeScene("material.toml", replace(kGoodScene, "steel_4340", "unobtainium"));
-  try {
-    loadScene(path, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    REQUIRE(e.line() == 6);
-    REQUIRE(std::string(e.what()).find("unknown material 'unobtainium'") != std::string::npos);
-  }
+  const auto error = thrownBy([&] { loadScene(path, {}, library()); });
+  REQUIRE(error);
+  REQUIRE(error->line() == 6);
+  REQUIRE(std::string(error->what()).find("unknown material 'unobtainium'") != std::string::npos);
   REQUIRE(runCli(path) == 2);
 }
 
@@ -208,13 +202,10 @@ TEST_CASE("a scene or library that is no file says why", "[unit][scene]") {
 TEST_CASE("a negative density is rejected before any work", "[unit][scene]") {
   const std::string path = writeScene(
       "density.toml", std::string(kGoodScene) + "[materials.steel_4340]\ndensity = -7850.0\n");
-  try {
-    loadScene(path, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    REQUIRE(e.line() == 14);
-    REQUIRE(std::string(e.what()).find("density") != std::string::npos);
-  }
+  const auto error = thrownBy([&] { loadScene(path, {}, library()); });
+  REQUIRE(error);
+  REQUIRE(error->line() == 14);
+  REQUIRE(std::string(error->what()).find("density") != std::string::npos);
   REQUIRE(runCli(path) == 2);
 }
 
@@ -231,34 +222,27 @@ TEST_CASE("impossible values are rejected with their line", "[unit][scene]") {
                         Case{"name = \"bar\"", "name = \"a bar\"", 5},
                         Case{"name = \"bar\"", "name = \"\"", 5}}) {
     const std::string path = writeScene("impossible.toml", replace(kGoodScene, c.from, c.to));
-    try {
-      loadScene(path, {}, library());
-      FAIL("no error for " << c.to);
-    } catch (const InputError& e) {
-      INFO(e.what());
-      REQUIRE(e.line() == c.line);
-    }
+    INFO(c.to);
+    const auto error = thrownBy([&] { loadScene(path, {}, library()); });
+    REQUIRE(error);
+    INFO(error->what());
+    REQUIRE(error->line() == c.line);
   }
   // An output field the series has no array for: said at its line before the meshing, where
   // the series writer said it after the meshing with the file alone.
   const std::string fields = writeScene(
       "unknown_field.toml", std::string(kGoodScene) + "[output]\nfields = [\"stress\",\n  \"strain\"]\n");
-  try {
-    loadScene(fields, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    CHECK(e.line() == 15);
-    CHECK(e.message().find("unknown output field \"strain\"; allowed: stress, pressure") == 0);
-  }
+  const auto unknown_field = thrownBy([&] { loadScene(fields, {}, library()); });
+  REQUIRE(unknown_field);
+  CHECK(unknown_field->line() == 15);
+  CHECK(unknown_field->message().find(
+            "unknown output field \"strain\"; allowed: stress, pressure") == 0);
   // The value as given, where std::to_string printed a small one as "-0.000000".
   const std::string small =
       writeScene("impossible_small.toml", replace(kGoodScene, "end_time = 1e-6", "end_time = -2.5e-9"));
-  try {
-    loadScene(small, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    CHECK(e.message() == "'end_time' must be > 0, got -2.5e-09");
-  }
+  const auto negative_small = thrownBy([&] { loadScene(small, {}, library()); });
+  REQUIRE(negative_small);
+  CHECK(negative_small->message() == "'end_time' must be > 0, got -2.5e-09");
   // A nose longer than the body was said by the mesher, with no file or line ("<input>:
   // error: projectile: length must exceed the nose length"): an ogive of crh 2 on 4 mm is
   // 4 sqrt(7) / 2 = 5.29 mm long, a hemisphere 2 mm (a body as long as its nose passed here).
@@ -291,14 +275,11 @@ TEST_CASE("two symmetry planes on one axis are an error at the second", "[unit][
                       plane,
                   17}}) {
     const std::string path = writeScene("two_planes.toml", text);
-    try {
-      loadScene(path, {}, library());
-      FAIL("no error for two planes normal to y");
-    } catch (const InputError& e) {
-      INFO(e.what());
-      REQUIRE(e.line() == line);
-      REQUIRE(std::string(e.what()).find("one per axis") != std::string::npos);
-    }
+    const auto error = thrownBy([&] { loadScene(path, {}, library()); });
+    REQUIRE(error);
+    INFO(error->what());
+    REQUIRE(error->line() == line);
+    REQUIRE(std::string(error->what()).find("one per axis") != std::string::npos);
   }
   const Scene x_and_y = loadScene(
       writeScene("x_and_y.toml", kGoodScene + plane + replace(plane, "\"y\"", "\"x\"")), {},
@@ -329,17 +310,14 @@ TEST_CASE("bodies that overlap at the start are refused with their lines", "[uni
   REQUIRE_NOTHROW(buildModel(apart));
   const std::string path = writeScene("overlap.toml", withPlateAt(1e-3));
   const Scene sc = loadScene(path, {}, library());
-  try {
-    buildModel(sc);
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    REQUIRE(e.file() == path);
-    REQUIRE((e.line() == 4 || e.line() == 13));  // the [[bodies]] of the bar or the plate
-    REQUIRE(std::string(e.what()).find("overlap at the start") != std::string::npos);
-    REQUIRE(std::string(e.what()).find("'bar'") != std::string::npos);
-    REQUIRE(std::string(e.what()).find("'plate'") != std::string::npos);
-  }
+  const auto error = thrownBy([&] { buildModel(sc); });
+  REQUIRE(error);
+  INFO(error->what());
+  REQUIRE(error->file() == path);
+  REQUIRE((error->line() == 4 || error->line() == 13));  // the bar's or the plate's [[bodies]]
+  REQUIRE(std::string(error->what()).find("overlap at the start") != std::string::npos);
+  REQUIRE(std::string(error->what()).find("'bar'") != std::string::npos);
+  REQUIRE(std::string(error->what()).find("'plate'") != std::string::npos);
   REQUIRE(runCli(path) == 2);
 }
 
@@ -412,14 +390,11 @@ TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]"
                           "type = \"projectile\"\ndiameter = 4e-3\nlength = 8e-3\nmesh_size = 2e-3",
                           "type = \"msh\"\nfile = \"broken.msh\""));
   const Scene sc = loadScene(path, {}, library());
-  try {
-    buildModel(sc);
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    REQUIRE(e.file().find("broken.msh") != std::string::npos);
-    REQUIRE(e.line() > 0);
-  }
+  const auto error = thrownBy([&] { buildModel(sc); });
+  REQUIRE(error);
+  INFO(error->what());
+  REQUIRE(error->file().find("broken.msh") != std::string::npos);
+  REQUIRE(error->line() > 0);
   REQUIRE(runCli(path) == 2);
 }
 
@@ -434,36 +409,31 @@ TEST_CASE("scene overrides from the command line are checked like the file", "[u
   // A value that is no TOML (a string without its quotes) is said to be one, with what would do.
   for (const char* bad : {"title=steel plate", "simulation.end_time=3e-6 s", "bodies.0.velocity=[0,0"}) {
     CAPTURE(bad);
-    try {
-      loadScene(path, {bad}, library());
-      FAIL("no error");
-    } catch (const InputError& e) {
-      const std::string value = std::string(bad).substr(std::string(bad).find('=') + 1);
-      CHECK(std::string(e.what()).find("--set " + std::string(bad)) != std::string::npos);
-      CHECK(std::string(e.what()).find("'" + value + "' is not a TOML value: expected a number") !=
-            std::string::npos);
-    }
+    const auto error = thrownBy([&] { loadScene(path, {bad}, library()); });
+    REQUIRE(error);
+    const std::string value = std::string(bad).substr(std::string(bad).find('=') + 1);
+    CHECK(std::string(error->what()).find("--set " + std::string(bad)) != std::string::npos);
+    CHECK(std::string(error->what())
+              .find("'" + value + "' is not a TOML value: expected a number") != std::string::npos);
   }
   // A bad value from --set has no line in the file: the error names the --set instead.
-  try {
+  const auto set_value = thrownBy([&] {
     loadScene(path, {"simulation.end_time=3e-6", "bodies.bar.shape.length=-1"}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    REQUIRE(e.line() == 0);
-    REQUIRE(std::string(e.what()).find("(given by --set bodies.bar.shape.length=-1)") !=
-            std::string::npos);
-  }
+  });
+  REQUIRE(set_value);
+  INFO(set_value->what());
+  REQUIRE(set_value->line() == 0);
+  REQUIRE(std::string(set_value->what()).find("(given by --set bodies.bar.shape.length=-1)") !=
+          std::string::npos);
   // A typo'd key beside a --set of the key it was meant to be: the typo alone is named (the
   // suggestion's 'end_time' named the good --set too).
-  try {
+  const auto set_typo = thrownBy([&] {
     loadScene(path, {"simulation.end_time=3e-6", "simulation.end_tme=4e-6"}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    INFO(e.what());
-    CHECK(std::string(e.what()).find("(given by --set simulation.end_tme=4e-6)") !=
-          std::string::npos);
-  }
+  });
+  REQUIRE(set_typo);
+  INFO(set_typo->what());
+  CHECK(std::string(set_typo->what()).find("(given by --set simulation.end_tme=4e-6)") !=
+        std::string::npos);
 }
 
 TEST_CASE("the command line end time keeps its precision", "[unit][scene]") {
@@ -509,36 +479,28 @@ TEST_CASE("resolution presets apply their keys, and --set wins over them", "[uni
 
   // An unknown preset names the line of `resolution` and the presets there are.
   const std::string bad = writeScene("bad_resolution.toml", "resolution = \"coarse\"\n" + text);
-  try {
-    loadScene(bad, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    CHECK(e.line() == 1);
-    CHECK(std::string(e.what()).find("unknown resolution 'coarse'") != std::string::npos);
-    CHECK(std::string(e.what()).find("quick") != std::string::npos);
-    CHECK(std::string(e.what()).find("fine") != std::string::npos);
-  }
+  const auto unknown_preset = thrownBy([&] { loadScene(bad, {}, library()); });
+  REQUIRE(unknown_preset);
+  CHECK(unknown_preset->line() == 1);
+  CHECK(std::string(unknown_preset->what()).find("unknown resolution 'coarse'") !=
+        std::string::npos);
+  CHECK(std::string(unknown_preset->what()).find("quick") != std::string::npos);
+  CHECK(std::string(unknown_preset->what()).find("fine") != std::string::npos);
   // A preset's name labels the run (summary.toml, the report's tables): plain characters only,
   // where a quote in it made summary.toml a file no TOML reader takes.
   const std::string quoted_name = writeScene(
       "quoted_resolution.toml", "resolution = 'a\"b'\n" + text + "[resolutions.'a\"b']\n");
-  try {
-    loadScene(quoted_name, {}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    CHECK(e.line() == 1);
-    CHECK(std::string(e.what()).find("letters, digits, '_' and '-'") != std::string::npos);
-  }
+  const auto quoted = thrownBy([&] { loadScene(quoted_name, {}, library()); });
+  REQUIRE(quoted);
+  CHECK(quoted->line() == 1);
+  CHECK(std::string(quoted->what()).find("letters, digits, '_' and '-'") != std::string::npos);
   // A preset key that leads nowhere names the preset's line.
   const std::string wrong = writeScene(
       "bad_preset.toml", std::string(kGoodScene) + "[resolutions.quick]\n\"bodies.7.x\" = 1\n");
-  try {
-    loadScene(wrong, {"resolution=\"quick\""}, library());
-    FAIL("no error");
-  } catch (const InputError& e) {
-    CHECK(e.line() == 14);  // kGoodScene has 12 lines, then the table header
-    CHECK(std::string(e.what()).find("'7' is neither an index") != std::string::npos);
-  }
+  const auto dead_end = thrownBy([&] { loadScene(wrong, {"resolution=\"quick\""}, library()); });
+  REQUIRE(dead_end);
+  CHECK(dead_end->line() == 14);  // kGoodScene has 12 lines, then the table header
+  CHECK(std::string(dead_end->what()).find("'7' is neither an index") != std::string::npos);
 }
 
 TEST_CASE("the scene as run reloads to the same scene", "[unit][scene]") {
@@ -608,12 +570,10 @@ TEST_CASE("[reference] needs one positive velocity per plate", "[unit][scene]") 
   for (const char* bad : {"experiment = [900.5, 800.0]", "experiment = [-3.0]",
                           "experiment = 900.5"}) {
     INFO(bad);
-    try {
-      loadScene(writeScene("ref_bad.toml", base + "[reference]\n" + bad + "\n"), {}, library());
-      FAIL("no error");
-    } catch (const InputError& e) {
-      CHECK(e.line() == 24);  // 12 lines, the plate's 10, [reference], the value
-    }
+    const std::string path = writeScene("ref_bad.toml", base + "[reference]\n" + bad + "\n");
+    const auto error = thrownBy([&] { loadScene(path, {}, library()); });
+    REQUIRE(error);
+    CHECK(error->line() == 24);  // 12 lines, the plate's 10, [reference], the value
   }
 }
 
