@@ -408,7 +408,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   o.height = 900;
   renderVelocityPlot(curves, "", (out / "velocity.png").string(), o);
   md << "\n## Projectile velocity\n\nMean velocity of the projectile body (elements and the "
-        "particles born from it), every run.\n\n![projectile velocity](velocity.png)\n";
+        "particles born from it), every run; a run with several projectiles has a curve for "
+        "each.\n\n![projectile velocity](velocity.png)\n";
 
   // Plate images and holes of every run.
   md << "\n## Plates\n\nFront and rear views at each run's last output, coloured by damage; "
