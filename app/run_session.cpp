@@ -416,6 +416,16 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
   replaceFile(path, out.str());  // a reader never sees half a summary
 }
 
+bool RunSession::measured(int body) const { return body == crossings_->projectile(); }
+
+const char* RunSession::clearance(int body, const ResidualVelocity& r) const {
+  if (!r.cleared) return "not clear of the targets yet";
+  // Nothing ahead of a projectile that never reached a plate: it went the other way.
+  if (measured(body) && crossings_->reachedNone())
+    return "no target ahead of it, and it has reached none";
+  return "it has cleared every target";
+}
+
 void RunSession::printSummary() const {
   const Model& model = model_;
   const double wall_total =
@@ -448,15 +458,9 @@ void RunSession::printSummary() const {
                 v.x(), v.y(), v.z());
     if (body.elem_end == body.elem_begin || model.bodies.size() < 2) continue;  // no target
     const ResidualVelocity r = residualVelocity(model, static_cast<int>(b));
-    // Nothing ahead of a projectile that never reached a plate: it went the other way.
-    bool met_none = static_cast<int>(b) == crossings_->projectile() && !crossings_->plates().empty();
-    for (const PlateCrossing& p : crossings_->plates()) met_none = met_none && p.t_contact < 0;
     std::printf("  residual velocity %.1f m/s (largest intact piece, %.1f %% of the initial "
                 "mass; %s)\n",
-                r.speed, 100 * r.mass_fraction,
-                !r.cleared ? "not clear of the targets yet"
-                : met_none ? "no target ahead of it, and it has reached none"
-                           : "it has cleared every target");
+                r.speed, 100 * r.mass_fraction, clearance(static_cast<int>(b), r));
   }
   const auto& plates = crossings_->plates();
   long projectiles = 0;

@@ -23,6 +23,7 @@ namespace fesph {
 
 class SeriesWriter;
 class PlateCrossings;
+struct ResidualVelocity;
 
 /// Said of a model with symmetry planes beside its energies, momentum and masses (its
 /// velocities are the full bodies').
@@ -97,6 +98,12 @@ class RunSession {
   const Scene& scene() const { return scene_; }
   /// Residual velocity after each plate (plate_crossings.hpp), as measured so far.
   const PlateCrossings& crossings() const { return *crossings_; }
+  /// How the largest piece `r` of projectile `body` stands to the targets, in words: not clear
+  /// of them yet, clear of every one, or clear of them without having reached any (the one the
+  /// plate crossings measure, shot away from the plates).
+  const char* clearance(int body, const ResidualVelocity& r) const;
+  /// Whether the plate crossings measure projectile `body` (the scene's first).
+  bool measured(int body) const;
   const std::string& folder() const { return scene_.output.folder; }
   double endTime() const { return model_.controls.end_time; }
 

@@ -779,9 +779,11 @@ void Workbench::probe(const std::vector<std::string>& a) {
     if (m.bodies.size() > 1 && body.elem_end > body.elem_begin) {
       const ResidualVelocity r = residualVelocity(m, static_cast<int>(b));
       std::printf("  residual        %.2f m/s (largest intact piece, %.1f %% of the mass; %s)\n", r.speed,
-                  100 * r.mass_fraction, r.cleared ? "clear of every target" : "not clear of the targets");
-      // How far the piece's leading node still is from the next measuring plane.
+                  100 * r.mass_fraction, session().clearance(static_cast<int>(b), r));
+      // How far the piece's leading node still is from the next measuring plane: of the
+      // projectile the plate crossings measure (another's v_k is never taken).
       for (const PlateCrossing& p : session().crossings().plates()) {
+        if (!session().measured(static_cast<int>(b))) break;
         if (p.t_measured >= 0) continue;
         const std::vector<Piece> pieces = bodyPieces(m, static_cast<int>(b));
         if (pieces.empty()) break;

@@ -63,9 +63,10 @@ ResidualVelocity residualVelocity(const Model& model, int body) {
   const Vec3 dir = p.velocity / r.speed;
   double trailing = std::numeric_limits<double>::infinity();
   for (int a : p.nodes) trailing = std::min(trailing, model.nodes.x[a].dot(dir));
+  // Targets are the bodies that are not projectiles: a tandem's lead is not its follower's.
   double farthest_target = -std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < model.nodes.size(); ++a)
-    if (model.nodes.body[a] != body && model.nodes.m[a] > 0)
+    if (!model.bodies[model.nodes.body[a]].is_projectile && model.nodes.m[a] > 0)
       farthest_target = std::max(farthest_target, model.nodes.x[a].dot(dir));
   r.cleared = trailing > farthest_target;
   return r;

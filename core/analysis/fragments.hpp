@@ -27,12 +27,13 @@ struct ResidualVelocity {
   double speed = 0;       ///< |velocity| of the largest piece, m/s
   Vec3 velocity = Vec3::Zero();
   double mass_fraction = 0;  ///< its mass over the body's initial mass
-  bool cleared = false;   ///< its trailing node is past every other body's nodes along the flight
+  bool cleared = false;   ///< its trailing node is past every target's nodes along the flight
 };
 
 /// Residual velocity of projectile `body`: its largest intact piece; `cleared` tells whether
-/// that piece has passed every target (no node of another element body lies ahead of the
-/// piece's trailing node along the piece's velocity).
+/// that piece has passed every target (no node with mass of a body that is not a projectile
+/// lies ahead of the piece's trailing node along the piece's velocity; another projectile
+/// ahead, a tandem's lead, is no target).
 ResidualVelocity residualVelocity(const Model& model, int body);
 
 }  // namespace fesph

@@ -156,6 +156,13 @@ PlateCrossings::PlateCrossings(std::vector<PlateCrossing> plates, int projectile
   while (next_ < plates_.size() && plates_[next_].t_measured >= 0) ++next_;  // measured in order
 }
 
+bool PlateCrossings::reachedNone() const {
+  if (plates_.empty()) return false;
+  for (const PlateCrossing& p : plates_)
+    if (p.t_contact >= 0) return false;
+  return true;
+}
+
 void PlateCrossings::update(const Model& model) {
   if (projectile_ < 0 || next_ >= plates_.size()) return;
   for (PlateCrossing& p : plates_)

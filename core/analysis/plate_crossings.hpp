@@ -94,6 +94,8 @@ class PlateCrossings {
   /// At the start, every plate lay behind the projectile along its velocity: it moves away
   /// from the target (a velocity's sign typed wrong, as a rule), and no plate will be crossed.
   bool headsAway() const { return heads_away_; }
+  /// There are plates and the projectile has reached none of them (yet).
+  bool reachedNone() const;
   /// residual_velocities.csv: one row per plate, empty fields where nothing was measured; its
   /// last column names the projectile measured.
   /// Replaces the file whole; throws RunError naming it if it cannot be written.

@@ -278,6 +278,15 @@ mesh_size = 1.5e-3
   CHECK(has(csv, ",through_mass_fraction,projectile\n1,plate,"));
   // Its one row ends with the measured body's name (the test scene calls it "projectile").
   CHECK(csv.substr(csv.find("\n1,plate,")).find(",projectile\n") != std::string::npos);
+  // The shell's probe gives the distance to the next measuring plane of the measured one only
+  // (it gave the follower's too, "v_k not yet taken" of a v_k never taken).
+  std::ofstream(dir.path / "probe.txt") << "step 2\nprobe\n";
+  const Result probe = command("shell two.toml --out probe < probe.txt", dir.path);
+  INFO(probe.out);
+  CHECK(probe.code == 0);
+  CHECK(occurrences(probe.out, "projectile '") == 2);
+  CHECK(occurrences(probe.out, "piece's lead") == 1);
+  CHECK(probe.out.find("piece's lead") < probe.out.find("projectile 'follower'"));
   // The report says it under the residual velocities.
   const Result report = command("report two --out report", dir.path);
   INFO(report.out);

@@ -46,7 +46,8 @@ TEST_CASE("a projectile has cleared a plate only when its trailing node is past 
   // Reference: geometry. A block moving in -z above a plate has not cleared it; the same
   // block below the plate's rear face has.
   const Material steel = fesph::testing::elasticMaterial();
-  auto scene = [&](double z0) {
+  // with_lead: another projectile (a tandem's lead) 30 mm ahead of the block.
+  auto scene = [&](double z0, bool with_lead = false) {
     Model m;
     m.materials.push_back(steel);
     Placement above;
@@ -55,11 +56,23 @@ TEST_CASE("a projectile has cleared a plate only when its trailing node is past 
             above, Vec3(0, 0, -500), true);
     addBody(m, "plate", structuredBox(Vec3(-5e-3, -5e-3, -1e-3), Vec3(10e-3, 10e-3, 1e-3), 4, 4, 1),
             0, Placement{}, Vec3::Zero(), false);
+    if (with_lead) {
+      Placement ahead;
+      ahead.translation = Vec3(0, 0, z0 - 30e-3);
+      addBody(m, "lead", structuredBox(Vec3::Zero(), Vec3(1e-3, 1e-3, 2e-3), 1, 1, 2), 0, ahead,
+              Vec3(0, 0, -500), true);
+    }
     finaliseModel(m);
     return m;
   };
   REQUIRE_FALSE(residualVelocity(scene(1e-3), 0).cleared);
   REQUIRE(residualVelocity(scene(-5e-3), 0).cleared);
+  // Another projectile ahead (a tandem's lead) is no target: past the plate, the follower has
+  // cleared every target all the same; above it, not yet.
+  REQUIRE(scene(-5e-3, true).bodies.size() == 3);
+  CHECK(residualVelocity(scene(-5e-3, true), 0).cleared);
+  CHECK(residualVelocity(scene(-5e-3, true), 2).cleared);
+  CHECK_FALSE(residualVelocity(scene(1e-3, true), 0).cleared);
 
   // Past means strictly past: a trailing face on the plane of the plate's rear face (z = -1 mm
   // exactly) has not cleared it; the next double beyond has.
