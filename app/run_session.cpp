@@ -464,7 +464,7 @@ void RunSession::printSummary() const {
   }
   const auto& plates = crossings_->plates();
   long projectiles = 0;
-  for (const Body& body : model_.bodies) projectiles += body.is_projectile;
+  for (const Body& body : model.bodies) projectiles += body.is_projectile;
   if (projectiles > 1 && !plates.empty())
     std::printf("  plate crossings  of projectile '%s', the scene's first of %ld projectiles\n",
                 crossings_->projectileName().c_str(), projectiles);
