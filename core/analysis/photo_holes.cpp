@@ -219,10 +219,8 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
           std::string(photo.holes.empty() ? "no hole found in the photograph"
                                           : "the simulated plate has no through-hole") +
           ": the holes cannot be aligned; give the pixel of the plate's centre");
-    f.pixel_ref = photo.holes.front().centroid_px;
-    const auto largest = std::max_element(sim.holes.begin(), sim.holes.end(),
-                                          [](const Hole& a, const Hole& b) { return a.area < b.area; });
-    f.plate_ref = local(largest->centroid);
+    f.pixel_ref = photo.holes.front().centroid_px;  // both sides' holes: largest first
+    f.plate_ref = local(sim.holes.front().centroid);
   }
 
   const double px_area = o.m_per_px * o.m_per_px;
