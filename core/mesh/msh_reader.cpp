@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Reader for Gmsh ASCII .msh files, formats 2.2 and 4.1: keeps the linear tets (type 4) and
-// the nodes they use. Every problem is reported as an InputError at its 1-based line.
+// the nodes they use, skips surface, line and point elements, and refuses any other volume
+// element (hexahedra, prisms, pyramids, higher-order tets), which would otherwise leave a hole
+// in the body. Every problem is reported as an InputError at its 1-based line.
 #include "core/common/error.hpp"
 #include "core/mesh/mesh.hpp"
 #include "core/mesh/tet_assembly.hpp"
@@ -16,6 +18,26 @@ namespace fesph {
 namespace {
 
 constexpr long long kLinearTet = 4;  // Gmsh element type
+
+/// The volume elements of Gmsh's element types other than the linear tet (GmshDefines.h, up
+/// to the fourth-order tet), by name; "" for a type that is not one of them.
+std::string volumeElementName(long long type) {
+  switch (type) {
+    case 5: return "8-node hexahedron";
+    case 6: return "6-node prism";
+    case 7: return "5-node pyramid";
+    case 11: return "10-node tetrahedron";
+    case 12: return "27-node hexahedron";
+    case 13: return "18-node prism";
+    case 14: return "14-node pyramid";
+    case 17: return "20-node hexahedron";
+    case 18: return "15-node prism";
+    case 19: return "13-node pyramid";
+    case 29: return "20-node tetrahedron";
+    case 30: return "35-node tetrahedron";
+    default: return "";
+  }
+}
 
 /// The file as a sequence of non-blank lines split into tokens, with the current line number.
 class MshLines {
@@ -179,6 +201,16 @@ void addTet(MshLines& in, RawMesh& mesh, long long tag, std::size_t first) {
   mesh.tets.push_back(t);
 }
 
+/// Refuses element `tag` of Gmsh type `type`, a volume element that is no linear tet.
+[[noreturn]] void otherVolumeElement(const MshLines& in, long long tag, long long type) {
+  const std::string name = volumeElementName(type);
+  in.fail("element " + std::to_string(tag) + " is " +
+          (name.empty() ? "a volume element" : "a " + name) + " (Gmsh type " +
+          std::to_string(type) +
+          "): fesph reads 4-node tetrahedra only; mesh the whole volume with them (in Gmsh "
+          "no recombination, Mesh.ElementOrder = 1)");
+}
+
 /// 2.2: a count, then "tag type numTags tags... nodes..." per line.
 void readElementsV2(MshLines& in, RawMesh& mesh) {
   in.next(1, "the number of elements");
@@ -187,7 +219,9 @@ void readElementsV2(MshLines& in, RawMesh& mesh) {
     in.next(3, "an element: tag type numTags tags... nodes...");
     const long long tag = in.integer(0, "an element tag");
     const long long num_tags = in.count(2, "the number of element tags");
-    if (in.integer(1, "an element type") == kLinearTet) addTet(in, mesh, tag, 3 + num_tags);
+    const long long type = in.integer(1, "an element type");
+    if (type == kLinearTet) addTet(in, mesh, tag, 3 + num_tags);
+    else if (!volumeElementName(type).empty()) otherVolumeElement(in, tag, type);
   }
 }
 
@@ -197,12 +231,17 @@ void readElementsV41(MshLines& in, RawMesh& mesh) {
   const long long blocks = in.count(0, "the number of element blocks");
   for (long long b = 0; b < blocks; ++b) {
     in.next(4, "an element block header: entityDim entityTag elementType numElementsInBlock");
-    const bool tets = in.integer(2, "an element type") == kLinearTet;
+    // A block of a volume entity holds volume elements whatever their type.
+    const bool volume = in.integer(0, "an entity dimension") == 3;
+    const long long type = in.integer(2, "an element type");
+    const bool tets = type == kLinearTet;
+    const bool other = !tets && (volume || !volumeElementName(type).empty());
     const long long n = in.count(3, "the number of elements in the block");
     for (long long i = 0; i < n; ++i) {
       in.next(2, "an element: tag nodes...");
       const long long tag = in.integer(0, "an element tag");
       if (tets) addTet(in, mesh, tag, 1);
+      else if (other) otherVolumeElement(in, tag, type);
     }
   }
 }

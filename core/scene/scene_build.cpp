@@ -9,11 +9,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <ostream>
 
 namespace fesph {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
   try {
@@ -95,6 +98,40 @@ void checkOneSide(const Scene& sc, const Model& model, const SymmetryPlane& s) {
   }
 }
 
+// A body's .msh file in mm read as m makes a projectile metres long, and a scale given to a
+// file already in m one of microns: both run, to no purpose. Bodies of this tool measure
+// from a millimetre (a fragment) to a metre (a large plate).
+constexpr double kLargestBody = 2.0, kSmallestBody = 1e-4;  // m, across its longest side
+
+// The meshing log's line for a body: its mesh, its size and mass (where a unit slip shows),
+// its quality; and the warning for an .msh body of a size no body of this tool has.
+void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh, double rho0,
+                  std::ostream& log) {
+  const MeshQuality q = meshQuality(mesh);
+  Vec3 lo = mesh.nodes.front(), hi = lo;
+  for (const Vec3& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const Vec3 size = hi - lo;
+  const double mass = rho0 * q.volume;
+  char line[160];
+  std::snprintf(line, sizeof line, "%.6g x %.6g x %.6g mm, %.4g %s", 1e3 * size.x(),
+                1e3 * size.y(), 1e3 * size.z(), mass < 1 ? 1e3 * mass : mass,
+                mass < 1 ? "g" : "kg");
+  log << "  body '" << b.name << "': " << q.nodes << " nodes, " << q.elements << " tets, "
+      << line << (sc.symmetry.empty() ? "" : " (its part on one side of the symmetry plane)")
+      << ", shape quality min " << q.min_quality << " mean " << q.mean_quality
+      << ", min dihedral " << q.min_dihedral_deg << " deg\n";
+  const auto* msh = std::get_if<MshShape>(&b.shape);
+  const double across = size.maxCoeff();
+  if (!msh || (across <= kLargestBody && across >= kSmallestBody)) return;
+  char what[320];
+  std::snprintf(what, sizeof what,
+                "warning: body '%s' measures %.6g mm across (%s at scale %g): the scene is in "
+                "m, so a file in mm needs scale = 1e-3, one in m scale = 1 (the default)\n",
+                b.name.c_str(), 1e3 * across, fs::path(msh->path).filename().string().c_str(),
+                msh->scale);
+  log << sc.path << ":" << b.line << ": " << what;
+}
+
 }  // namespace
 
 void addSymmetryPlane(Model& model, const SymmetryPlane& s) {
@@ -117,12 +154,7 @@ Model buildModel(const Scene& sc, std::ostream* log) {
     const int mat = static_cast<int>(
         std::find(sc.material_ids.begin(), sc.material_ids.end(), b.material) -
         sc.material_ids.begin());
-    if (log) {
-      const MeshQuality q = meshQuality(mesh);
-      *log << "  body '" << b.name << "': " << q.nodes << " nodes, " << q.elements
-           << " tets, shape quality min " << q.min_quality << " mean " << q.mean_quality
-           << ", min dihedral " << q.min_dihedral_deg << " deg\n";
-    }
+    if (log) describeBody(sc, b, mesh, sc.materials[static_cast<std::size_t>(mat)].rho0, *log);
     if (b.discretisation == Discretisation::Sph)  // one particle per tet, from the start
       addParticleBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile,
                       model.sph.controls.kappa);

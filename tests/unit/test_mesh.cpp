@@ -458,6 +458,31 @@ TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
     CHECK(e.line() == 16);
     CHECK_THAT(e.what(), Catch::Matchers::Contains("expected 4 node tags for tetrahedron 3"));
   }
+  SECTION("a volume element that is no 4-node tetrahedron") {
+    // Skipped, a hexahedron or a 10-node tet would leave a hole in the body, or a body of
+    // the wrong volume: refused at its line, naming what it is (GmshDefines.h types).
+    const InputError hex = readError("hex.msh", smallMshWith(16, "3 5 2 0 1 1 2 3 5 1 2 3 4"));
+    CHECK(hex.line() == 16);
+    CHECK_THAT(hex.what(), Catch::Matchers::Contains(
+                               "element 3 is a 8-node hexahedron (Gmsh type 5): fesph reads "
+                               "4-node tetrahedra only"));
+    const InputError tet10 =
+        readError("tet10.msh", smallMshWith(15, "2 11 2 0 1 1 2 3 4 1 2 3 4 5 1"));
+    CHECK(tet10.line() == 15);
+    CHECK_THAT(tet10.what(),
+               Catch::Matchers::Contains("element 2 is a 10-node tetrahedron (Gmsh type 11)"));
+    // 4.1: the cube's volume block (line 298, 100 tets from line 299) given as prisms, and as
+    // a type this reader has no name for; any type in a volume entity is a volume element.
+    auto lines = cubeV41Lines();
+    REQUIRE(lines.at(297) == "3 1 4 100");
+    lines.at(297) = "3 1 6 100";
+    const InputError prism = readError("prism41.msh", joinLines(lines));
+    CHECK(prism.line() == 299);
+    CHECK_THAT(prism.what(), Catch::Matchers::Contains("is a 6-node prism (Gmsh type 6)"));
+    lines.at(297) = "3 1 99 100";
+    CHECK_THAT(readError("other41.msh", joinLines(lines)).what(),
+               Catch::Matchers::Contains("is a volume element (Gmsh type 99)"));
+  }
   SECTION("a line outside any section") {
     auto lines = kSmallMsh22;
     lines.insert(lines.begin() + 11, "stray text");  // after $EndNodes: line 12

@@ -381,6 +381,50 @@ TEST_CASE("a model with a symmetry plane holds only bodies on one side of it", "
                                  "symmetry plane x = -5 mm (second: x = -12") == 0);
 }
 
+TEST_CASE("the meshing log gives each body's size and mass, and warns of an .msh unit slip",
+          "[unit][scene]") {
+  // cube_v41.msh is a 10 mm cube written in mm. Read at scale 1 it is a 10 m steel cube
+  // (7.83e6 kg): a run of no use that nothing else would flag. The log says the size and mass
+  // of every body, and warns at the body's line when an .msh body is not between 0.1 mm and
+  // 2 m across.
+  const auto meshingLog = [](const std::string& name, const std::string& scale_line) {
+    const std::string text = replace(
+        kGoodScene, "type = \"projectile\"\ndiameter = 4e-3\nlength = 8e-3\nmesh_size = 2e-3",
+        "type = \"msh\"\nfile = \"" + std::string(FESPH_TEST_DATA_DIR) + "/cube_v41.msh\"\n" +
+            scale_line);
+    const std::string path = writeScene(name, text);
+    std::ostringstream log;
+    buildModel(loadScene(path, {}, library()), &log);
+    return std::make_pair(path, log.str());
+  };
+  const auto [metres, in_m] = meshingLog("unit_m.toml", "");
+  INFO(in_m);
+  // steel_4340: 7830 kg/m^3 (scenes/materials.toml) times (10 m)^3
+  CHECK(in_m.find("body 'bar': 45 nodes, 100 tets, 10000 x 10000 x 10000 mm, 7.83e+06 kg") !=
+        std::string::npos);
+  CHECK(in_m.find(metres + ":4: warning: body 'bar' measures 10000 mm across (cube_v41.msh at "
+                           "scale 1): the scene is in m, so a file in mm needs scale = 1e-3") !=
+        std::string::npos);
+  const auto [right, in_mm] = meshingLog("unit_mm.toml", "scale = 1e-3");
+  INFO(in_mm);
+  CHECK(in_mm.find("100 tets, 10 x 10 x 10 mm, 7.83 g, shape quality") != std::string::npos);
+  CHECK(in_mm.find("warning") == std::string::npos);
+  const auto [tiny, in_um] = meshingLog("unit_um.toml", "scale = 1e-6");
+  CHECK(in_um.find(tiny + ":4: warning: body 'bar' measures 0.01 mm across (cube_v41.msh at "
+                          "scale 1e-06)") != std::string::npos);
+  // A half model's bodies are their halves: the log says so (the mass is the half's).
+  std::ostringstream half;
+  buildModel(loadScene(writeScene("half_log.toml",
+                                  replace(kGoodScene, "end_time = 1e-6",
+                                          "end_time = 1e-6\nsymmetry = \"half\"")),
+                       {}, library()),
+             &half);
+  INFO(half.str());
+  CHECK(half.str().find("4 x 2 x 8 mm, ") != std::string::npos);
+  CHECK(half.str().find(" g (its part on one side of the symmetry plane), shape quality") !=
+        std::string::npos);
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
