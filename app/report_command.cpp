@@ -281,9 +281,10 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
      << FESPH_VERSION << " on " << date << ".\n\n";
   md << "## Residual velocity after each plate\n\n"
      << "Definition (the one used everywhere in fesph, `core/analysis/plate_crossings.hpp`): the "
-        "speed of the projectile's largest intact piece of elements at the first instant its "
-        "leading node reaches the plane one clear gap behind the plate's rear face (the front "
-        "face of the next plate; a virtual next plate at the same gap after the last one). "
+        "speed of the projectile's largest intact piece of elements (of a projectile made of "
+        "particles, its largest clump of linked particles) at the first instant its leading "
+        "node (particle) reaches the plane one clear gap behind the plate's rear face (the "
+        "front face of the next plate; a virtual next plate at the same gap after the last one). "
         "Errors are (value - experiment) / experiment; a reference's 0 is a projectile that "
         "stopped in the plate. A - is no value: the run ended (its status and time under Runs) "
         "or its piece stopped before that plane, or there is nothing to compare with.\n\n";
@@ -333,7 +334,7 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   md << "\n## What of the projectile got through each plate\n\n"
      << "At the instant v_k is taken: the largest intact piece (its speed is v_k) and all the "
         "projectile's material past the plate's rear face (live elements and the particles born "
-        "from its elements), each with its share of the projectile's initial mass; the second "
+        "from its elements, or the particles it is made of), each with its share of the projectile's initial mass; the second "
         "velocity is that material's momentum over its mass, with its error against the "
         "experiment's v_k. Where the projectile breaks up, its intact rear goes on faster than "
         "the material the plate slowed.\n\n"

@@ -456,7 +456,7 @@ void RunSession::printSummary() const {
     const Vec3 v = bodyMeanVelocity(model, static_cast<int>(b));
     std::printf("  projectile '%s'  mean velocity (%.2f, %.2f, %.2f) m/s\n", body.name.c_str(),
                 v.x(), v.y(), v.z());
-    if (body.elem_end == body.elem_begin || model.bodies.size() < 2) continue;  // no target
+    if (model.bodies.size() < 2) continue;  // no target
     const ResidualVelocity r = residualVelocity(model, static_cast<int>(b));
     std::printf("  residual velocity %.1f m/s (largest intact piece, %.1f %% of the initial "
                 "mass; %s)\n",

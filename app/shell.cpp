@@ -330,8 +330,9 @@ const std::vector<Workbench::Command>& Workbench::table() {
        "From the run's history.csv, to RUN_FOLDER/shell/velocity.png.", &Workbench::plot},
       {"probe", "probe", "projectile velocity and position, counts, energies",
        "Per projectile: mean velocity, centre of mass, nose (its most advanced point along the\n"
-       "flight), residual velocity of the largest intact piece and how far its leading node is\n"
-       "from the next plate's measuring plane. Then element, node and particle\n"
+       "flight), residual velocity of the largest intact piece and how far its leading node\n"
+       "(of a projectile made of particles: particle) is from the next plate's measuring\n"
+       "plane. Then element, node and particle\n"
        "counts and the energy budget: the one the last step closed, at the step before (a\n"
        "step closes the budget of its start), as history.csv labels it.",
        &Workbench::probe},
@@ -776,7 +777,7 @@ void Workbench::probe(const std::vector<std::string>& a) {
     std::printf("  nose            (%.3f, %.3f, %.3f) mm\n", nose_at.x() * 1e3, nose_at.y() * 1e3,
                 nose_at.z() * 1e3);
     std::printf("  mass            %.6g kg\n", mass);
-    if (m.bodies.size() > 1 && body.elem_end > body.elem_begin) {
+    if (m.bodies.size() > 1) {
       const ResidualVelocity r = residualVelocity(m, static_cast<int>(b));
       std::printf("  residual        %.2f m/s (largest intact piece, %.1f %% of the mass; %s)\n", r.speed,
                   100 * r.mass_fraction, session().clearance(static_cast<int>(b), r));
@@ -788,7 +789,7 @@ void Workbench::probe(const std::vector<std::string>& a) {
         const std::vector<Piece> pieces = bodyPieces(m, static_cast<int>(b));
         if (pieces.empty()) break;
         std::printf("  piece's lead    %.3f mm before the measuring plane of '%s' (v_k not yet taken)\n",
-                    (p.measure_depth - leadingDepth(m, p, pieces[0].nodes)) * 1e3, p.name.c_str());
+                    (p.measure_depth - leadingDepth(m, p, pieces[0])) * 1e3, p.name.c_str());
         break;
       }
     }

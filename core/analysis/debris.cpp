@@ -72,6 +72,7 @@ std::vector<Clump> findClumps(const std::vector<DebrisParticle>& particles,
     const DebrisParticle& q = particles[i];
     Clump& c = clumps[clump_of[i]];
     ++c.particles;
+    c.members.push_back(static_cast<int>(i));
     c.mass += q.mass;
     c.centroid += q.mass * q.x;
     c.velocity += q.mass * q.v;

@@ -42,6 +42,7 @@ struct Clump {
   double size = 0;                  ///< rms distance of its particles from the centroid, m
   double spread = 0;                ///< rms speed of its particles relative to `velocity`, m/s
   bool on_plane = false;            ///< reaches a half model's symmetry plane
+  std::vector<int> members;         ///< its particles' indices in the list clumped, ascending
 };
 
 /// Clumps of particles linked (DebrisOptions::link) within each body. Every particle belongs

@@ -1,24 +1,65 @@
 // SPDX-License-Identifier: MIT
 #include "core/analysis/fragments.hpp"
 
+#include "core/analysis/debris.hpp"
 #include "core/common/union_find.hpp"
 #include "core/state/model_build.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace fesph {
+
+namespace {
+
+bool madeOfParticles(const Body& b) { return b.discretisation == Discretisation::Sph; }
+
+// The pieces of a body made of particles: its particles clumped as debris is (debris.hpp).
+std::vector<Piece> particlePieces(const Model& model, int body) {
+  const Particles& pa = model.particles;
+  std::vector<int> ids;
+  std::vector<DebrisParticle> list;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    if (pa.body[i] != body) continue;
+    ids.push_back(static_cast<int>(i));
+    // the radius the particle series gives ParaView and the debris table
+    list.push_back({pa.x[i], pa.v[i], pa.m[i], 0.5 * std::cbrt(pa.V[i]), 0.0, body});
+  }
+  std::vector<Piece> pieces;
+  for (const Clump& c : findClumps(list)) {  // largest mass first
+    Piece p;
+    Vec3 momentum = Vec3::Zero();
+    for (int k : c.members) {
+      const int i = ids[static_cast<std::size_t>(k)];
+      p.mass += pa.m[i];
+      momentum += pa.m[i] * pa.v[i];
+      p.centroid += pa.m[i] * pa.x[i];
+      p.particles.push_back(i);
+    }
+    p.velocity = wholeVelocity(model, {}, momentum / p.mass, p.particles);
+    p.centroid /= p.mass;
+    pieces.push_back(std::move(p));
+  }
+  return pieces;
+}
+
+}  // namespace
 
 double bodyInitialMass(const Model& model, int body) {
   const Body& b = model.bodies[body];
   double m = 0;
   for (std::size_t e = b.elem_begin; e < b.elem_end; ++e)
     m += model.materials[model.elems.material[e]].rho0 * model.elems.V0[e];
+  if (madeOfParticles(b))
+    for (std::size_t i = 0; i < model.particles.size(); ++i)
+      if (model.particles.body[i] == body) m += model.particles.m[i];
   return m;
 }
 
 std::vector<Piece> bodyPieces(const Model& model, int body) {
   const Body& b = model.bodies[body];
+  if (madeOfParticles(b)) return particlePieces(model, body);
   const Elements& el = model.elems;
   const Nodes& nd = model.nodes;
   UnionFind sets(nd.size());
@@ -63,6 +104,7 @@ ResidualVelocity residualVelocity(const Model& model, int body) {
   const Vec3 dir = p.velocity / r.speed;
   double trailing = std::numeric_limits<double>::infinity();
   for (int a : p.nodes) trailing = std::min(trailing, model.nodes.x[a].dot(dir));
+  for (int i : p.particles) trailing = std::min(trailing, model.particles.x[i].dot(dir));
   // Targets are the bodies that are not projectiles: a tandem's lead is not its follower's.
   double farthest_target = -std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < model.nodes.size(); ++a)

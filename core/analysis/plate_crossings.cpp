@@ -12,20 +12,28 @@
 
 namespace fesph {
 
-double leadingDepth(const Model& model, const PlateCrossing& p, const std::vector<int>& nodes) {
+double leadingDepth(const Model& model, const PlateCrossing& p, const Piece& piece) {
   double depth = -std::numeric_limits<double>::infinity();
-  for (int a : nodes) depth = std::max(depth, -(model.nodes.x[a] - p.front).dot(p.normal));
+  for (int a : piece.nodes) depth = std::max(depth, -(model.nodes.x[a] - p.front).dot(p.normal));
+  for (int i : piece.particles)
+    depth = std::max(depth, -(model.particles.x[i] - p.front).dot(p.normal));
   return depth;
 }
 
 namespace {
 
-// The same over the live (massive) nodes of `body`; -infinity when it has none.
+// The same over the live (massive) nodes of `body`, or the particles of a body made of them;
+// -infinity when it has none. (The particles an element body's conversion makes are no part
+// of its intact pieces, so they do not count.)
 double bodyLeadingDepth(const Model& model, const PlateCrossing& p, int body) {
   const Body& b = model.bodies[body];
   double depth = -std::numeric_limits<double>::infinity();
   for (std::size_t a = b.node_begin; a < b.node_end; ++a)
     if (model.nodes.m[a] > 0) depth = std::max(depth, -(model.nodes.x[a] - p.front).dot(p.normal));
+  if (b.discretisation == Discretisation::Sph)
+    for (std::size_t i = 0; i < model.particles.size(); ++i)
+      if (model.particles.body[i] == body)
+        depth = std::max(depth, -(model.particles.x[i] - p.front).dot(p.normal));
   return depth;
 }
 
@@ -108,19 +116,27 @@ PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
   if (projectile_ < 0) return;
   const Body& pb = model.bodies[projectile_];
   projectile_name_ = pb.name;
+  // Its nodes, or the particles of a body made of them (no others exist at the start).
+  std::vector<Vec3> points;
   Vec3 v0 = Vec3::Zero(), c0 = Vec3::Zero();
   double m0 = 0, zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a) {
-    v0 += model.nodes.m[a] * model.nodes.v[a];
-    c0 += model.nodes.m[a] * model.nodes.x[a];
-    m0 += model.nodes.m[a];
-  }
+  const auto add = [&](const Vec3& x, const Vec3& v, double m) {
+    v0 += m * v;
+    c0 += m * x;
+    m0 += m;
+    points.push_back(x);
+  };
+  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a)
+    add(model.nodes.x[a], model.nodes.v[a], model.nodes.m[a]);
+  for (std::size_t i = 0; i < model.particles.size(); ++i)
+    if (model.particles.body[i] == projectile_)
+      add(model.particles.x[i], model.particles.v[i], model.particles.m[i]);
   if (!(m0 > 0) || v0.norm() == 0) return;
   const Vec3 dir = v0.normalized();
   c0 /= m0;
-  for (std::size_t a = pb.node_begin; a < pb.node_end; ++a) {
-    zmin = std::min(zmin, model.nodes.x[a].dot(dir));
-    zmax = std::max(zmax, model.nodes.x[a].dot(dir));
+  for (const Vec3& x : points) {
+    zmin = std::min(zmin, x.dot(dir));
+    zmax = std::max(zmax, x.dot(dir));
   }
   const double length = zmax - zmin;
 
@@ -172,7 +188,7 @@ void PlateCrossings::update(const Model& model) {
     PlateCrossing& p = plates_[next_];
     if (bodyLeadingDepth(model, p, projectile_) < p.measure_depth) return;
     const std::vector<Piece> pieces = bodyPieces(model, projectile_);
-    if (pieces.empty() || leadingDepth(model, p, pieces.front().nodes) < p.measure_depth) return;
+    if (pieces.empty() || leadingDepth(model, p, pieces.front()) < p.measure_depth) return;
     p.t_measured = model.time;
     p.velocity = pieces.front().velocity;
     p.speed = p.velocity.norm();

@@ -3,7 +3,8 @@
 // run summary, residual_velocities.csv and the report:
 //
 //   v_k = speed of the projectile's largest intact piece (fragments.hpp) at the first instant
-//         its leading node reaches the measuring plane of plate k: the plane parallel to the
+//         its leading node (of a projectile made of particles: its leading particle) reaches
+//         the measuring plane of plate k: the plane parallel to the
 //         plate at the clear gap g behind its rear face. With equal gaps that plane is the
 //         front face of plate k+1, so v_k is the speed at the end of the free flight after
 //         plate k, just before the next impact; the last plate gets a virtual next plate at
@@ -12,7 +13,7 @@
 //
 // Beside it, at the same instant, what of the projectile got through plate k: the mass and the
 // mass-weighted velocity of all its material (the live nodes' lumped masses and the particles
-// born from its elements) deeper than the plate's rear face. The intact piece says how fast the
+// born from its elements, or the particles it is made of) deeper than the plate's rear face. The intact piece says how fast the
 // projectile goes on; this says how much momentum the plate took from the projectile's mass.
 // When the projectile breaks up the two differ: its converted nose and debris travel slower
 // than its intact rear.
@@ -22,6 +23,7 @@
 // wherever the impact pushes its material away from the plane.
 #pragma once
 
+#include "core/analysis/fragments.hpp"
 #include "core/common/types.hpp"
 #include "core/scene/scene.hpp"
 #include "core/state/model.hpp"
@@ -51,9 +53,9 @@ struct PlateCrossing {
   double through_mass_fraction = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// Largest depth behind the front face of `p` over the given nodes (positive: behind), m;
-/// -infinity for no nodes.
-double leadingDepth(const Model& model, const PlateCrossing& p, const std::vector<int>& nodes);
+/// Largest depth behind the front face of `p` over a piece's nodes and particles (positive:
+/// behind), m; -infinity for an empty piece.
+double leadingDepth(const Model& model, const PlateCrossing& p, const Piece& piece);
 
 /// Mass (kg) and mass-weighted mean velocity (m/s) of the material of `body` (live nodes with
 /// mass, and particles of that body) lying deeper than `depth` behind the front face of `p`.

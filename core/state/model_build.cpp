@@ -168,11 +168,16 @@ Vec3 alongPlanes(Vec3 v, unsigned planes) {
   return v;
 }
 
-Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v) {
+Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v,
+                   const std::vector<int>& particles) {
+  const Particles& pa = model.particles;
   unsigned planes = 0;
   for (const SymmetryPlane& s : model.symmetry)
     if (std::any_of(nodes.begin(), nodes.end(),
-                    [&](int a) { return heldOnPlane(model.nodes, a, s.axis); }))
+                    [&](int a) { return heldOnPlane(model.nodes, a, s.axis); }) ||
+        std::any_of(particles.begin(), particles.end(), [&](int i) {
+          return std::abs(pa.x[i][s.axis] - s.position) < pa.h[i];
+        }))
       planes |= 1u << s.axis;
   return alongPlanes(v, planes);
 }

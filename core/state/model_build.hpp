@@ -36,9 +36,10 @@ Vec3 bodyMeanVelocity(const Model& model, int body);
 /// stands for. A part a plane cuts is half of a part of the full model whose other half is its
 /// mirror image, so its velocity normal to that plane cancels; a part off the plane has a twin
 /// of its own and keeps `v`. A plane cuts the part when it holds one of the part's nodes
-/// (`nodes`), or, for a body, one of its nodes or a particle of it lies within its smoothing
-/// length of the plane (its mirror image is its neighbour).
-Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v);
+/// (`nodes`) or one of its particles (`particles`) lies within its smoothing length of the
+/// plane (its mirror image is its neighbour); a body, when it holds one of the body's.
+Vec3 wholeVelocity(const Model& model, const std::vector<int>& nodes, Vec3 v,
+                   const std::vector<int>& particles = {});
 Vec3 wholeBodyVelocity(const Model& model, int body, Vec3 v);
 
 /// The symmetry planes that cut `body`, one bit per axis (1 << axis), as wholeBodyVelocity

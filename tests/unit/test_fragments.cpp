@@ -3,6 +3,7 @@
 #include "core/analysis/fragments.hpp"
 #include "core/contact/surfaces.hpp"
 #include "core/conversion/erosion.hpp"
+#include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
 
 #include <catch2/catch.hpp>
@@ -39,6 +40,38 @@ TEST_CASE("a body cut in two by erosion has two pieces", "[unit][analysis]") {
   for (double& V : m.elems.V) V *= 0.8;
   REQUIRE(bodyInitialMass(m, 0) == Approx(mass).epsilon(1e-12));
   REQUIRE(residualVelocity(m, 0).mass_fraction == Approx(0.6).epsilon(1e-12));
+}
+
+TEST_CASE("a body of particles falls into pieces where its particles are no longer linked",
+          "[unit][analysis]") {
+  // Reference: debris.hpp's link, |x_i - x_j| <= 1.5 (r_i + r_j) with r = cbrt(V) / 2, and exact
+  // mass bookkeeping. A row of five equal particles 1 mm apart (V = 1 mm^3: linked up to 1.5
+  // mm) is one piece; moved 2 mm apart after the second, it is two, the larger (three
+  // particles, moving at -200 m/s) first, with the mass fraction of the body's particles.
+  Model m;
+  m.materials.push_back(fesph::testing::elasticMaterial());
+  m.bodies.push_back(Body{});
+  m.bodies[0].name = "slug";
+  m.bodies[0].is_projectile = true;
+  m.bodies[0].discretisation = Discretisation::Sph;
+  for (int k = 0; k < 5; ++k) {
+    const Vec3 v = k < 2 ? Vec3(0, 0, -100) : Vec3(0, 0, -200);
+    appendParticle(m.particles, Vec3(0, 0, 1e-3 * k), v, 2e-6, 1e-9, 1e-3, 1.3e-3, PointState{},
+                   0, 0, -1);
+  }
+  REQUIRE(bodyInitialMass(m, 0) == Approx(10e-6).epsilon(1e-12));
+  REQUIRE(bodyPieces(m, 0).size() == 1);
+  for (int k = 2; k < 5; ++k) m.particles.x[k].z() += 1e-3;  // a 2 mm gap after the second
+  const std::vector<Piece> pieces = bodyPieces(m, 0);
+  REQUIRE(pieces.size() == 2);
+  CHECK(pieces[0].particles == std::vector<int>{2, 3, 4});
+  CHECK(pieces[1].particles == std::vector<int>{0, 1});
+  CHECK(pieces[0].mass == Approx(6e-6).epsilon(1e-12));
+  CHECK((pieces[0].velocity - Vec3(0, 0, -200)).norm() < 1e-12);
+  CHECK(pieces[0].nodes.empty());
+  const ResidualVelocity r = residualVelocity(m, 0);
+  CHECK(r.speed == Approx(200.0).epsilon(1e-12));
+  CHECK(r.mass_fraction == Approx(0.6).epsilon(1e-12));
 }
 
 TEST_CASE("a projectile has cleared a plate only when its trailing node is past it",

@@ -136,6 +136,58 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   fs::remove_all(dir / "rv.csv.tmp");
 }
 
+TEST_CASE("a projectile made of particles is measured at the plates as one of elements is",
+          "[unit][analysis]") {
+  // Reference: plate_crossings.hpp and fragments.hpp: a body of particles' intact pieces are its
+  // linked particles (debris.hpp's link), its leading point its leading particle. The free
+  // flight above with the shot made of particles (one per tetrahedron): nothing slows it, so
+  // v_k is 1000 m/s, and each event comes when its leading particle, which starts at depth d0
+  // behind the nose's plane z = 1 mm, has flown the distance to its plane.
+  std::string text = kScene;
+  const std::string tag = "projectile = true\n";
+  text.replace(text.find(tag), tag.size(), tag + "discretisation = \"sph\"\n");
+  const Scene sc = crossingsScene("fesph_crossings_particles", text);
+  Model m = buildModel(sc);
+  const Body& shot = m.bodies[0];
+  REQUIRE(shot.discretisation == Discretisation::Sph);
+  double lead = -1, mass = 0;  // the leading particle's z, m; the shot's mass, kg
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    REQUIRE(m.particles.body[i] == 0);
+    lead = i == 0 ? m.particles.x[i].z() : std::min(lead, m.particles.x[i].z());
+    mass += m.particles.m[i];
+  }
+  REQUIRE(lead > 1e-3);  // a centroid, behind the nose
+  CHECK(bodyInitialMass(m, 0) == Approx(mass).epsilon(1e-12));
+  const std::vector<Piece> pieces = bodyPieces(m, 0);
+  REQUIRE(pieces.size() == 1);  // the particles of a mesh are linked: one piece
+  CHECK(pieces[0].particles.size() == m.particles.size());
+  CHECK(pieces[0].mass == Approx(mass).epsilon(1e-12));
+
+  PlateCrossings crossings(sc, m);
+  REQUIRE(crossings.plates().size() == 2);
+  CHECK(crossings.projectileName() == "shot");
+  double dt_max = 0;
+  while (m.time < m.controls.end_time * (1 - 1e-12)) {
+    step(m, m.controls.end_time);
+    dt_max = std::max(dt_max, m.dt);
+    crossings.update(m);
+  }
+  const auto& p = crossings.plates();
+  const double to = lead / 1000;  // s, flight time of the leading particle to z = 0
+  CHECK(p[0].t_contact == Approx(to + 5e-6).margin(dt_max));   // z = -5 mm
+  CHECK(p[0].t_measured == Approx(to + 15e-6).margin(dt_max)); // -15 mm
+  CHECK(p[1].t_measured == Approx(to + 25e-6).margin(dt_max)); // -25 mm
+  for (const PlateCrossing& c : p) {
+    CHECK(c.t_measured > 0);
+    CHECK(c.speed == Approx(1000.0).epsilon(1e-9));
+    CHECK(c.mass_fraction == Approx(1.0).epsilon(1e-12));
+    CHECK(c.through_mass_fraction == Approx(1.0).epsilon(1e-12));
+  }
+  const ResidualVelocity r = residualVelocity(m, 0);
+  CHECK(r.speed == Approx(1000.0).epsilon(1e-9));
+  CHECK(r.cleared);  // past both plates' nodes, beside its path
+}
+
 TEST_CASE("a continued run keeps the plates measured before it", "[unit][analysis][restart]") {
   // Reference: PlateCrossings(plates, projectile), the table a checkpoint gives back: plates
   // already measured keep their v_k, however far past their measuring planes the shot is now;
