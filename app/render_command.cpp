@@ -50,6 +50,10 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   const std::vector<PlateImages> plates = renderPlateImages(run_dir, time, o, out_dir);
   if (!plates.empty())
     std::printf("%s", nearestOutputNote(time, plates.front().time, "drawn").c_str());
+  else  // the section, velocity plot and debris table are drawn all the same
+    std::printf("  plates: none drawn, as no body but a projectile has elements there (plate "
+                "images and holes are drawn from a plate's elements: a plate made of particles "
+                "has none)\n");
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);
@@ -65,8 +69,9 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   writeHolesJson(out_dir + "/holes.json", holes, field,
                  plates.empty() ? time : plates.front().time);
   const DebrisSummary debris = writeDebrisTable(run_dir, plates, out_dir);
-  std::printf("  debris: %s/debris.csv (%zu clumps of free particles, %zu would strike a plate)\n",
-              out_dir.c_str(), debris.clumps, debris.strikes);
+  std::printf("  debris: %s/debris.csv (%zu clump%s of free particles, %zu would strike a "
+              "plate)\n",
+              out_dir.c_str(), debris.clumps, debris.clumps == 1 ? "" : "s", debris.strikes);
 }
 
 bool isRenderedFile(const std::string& name) {

@@ -67,7 +67,8 @@ class UnknownField : public RunError {
 /// nearest to `time` (time < 0: the last step), written to OUT_DIR/<plate>_front.png and
 /// OUT_DIR/<plate>_rear.png. Plates: `plates` (body indices) or, when empty, every body that is
 /// not a projectile. Half models are drawn mirrored (the full plate). All plates share one
-/// camera extent. Throws UnknownField, or RunError (no series, unwritable file).
+/// camera extent. A plate with no element at that step (one made of particles) is not drawn:
+/// none such, an empty list. Throws UnknownField, or RunError (no series, unwritable file).
 std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double time,
                                            const ImageOptions& options,
                                            const std::string& out_dir,

@@ -110,6 +110,14 @@ ResidualVelocity residualVelocity(const Model& model, int body) {
   for (std::size_t a = 0; a < model.nodes.size(); ++a)
     if (!model.bodies[model.nodes.body[a]].is_projectile && model.nodes.m[a] > 0)
       farthest_target = std::max(farthest_target, model.nodes.x[a].dot(dir));
+  // A target made of particles is its particles (those an element target's conversion makes
+  // are its debris, not the target).
+  const Particles& pa = model.particles;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    const Body& target = model.bodies[pa.body[i]];
+    if (!target.is_projectile && madeOfParticles(target))
+      farthest_target = std::max(farthest_target, pa.x[i].dot(dir));
+  }
   r.cleared = trailing > farthest_target;
   return r;
 }

@@ -36,9 +36,9 @@ struct ResidualVelocity {
 };
 
 /// Residual velocity of projectile `body`: its largest intact piece; `cleared` tells whether
-/// that piece has passed every target (no node with mass of a body that is not a projectile
-/// lies ahead of the piece's trailing node or particle along the piece's velocity; another
-/// projectile ahead, a tandem's lead, is no target).
+/// that piece has passed every target (no node with mass of a body that is not a projectile,
+/// nor a particle of one made of particles, lies ahead of the piece's trailing node or particle
+/// along the piece's velocity; another projectile ahead, a tandem's lead, is no target).
 ResidualVelocity residualVelocity(const Model& model, int body);
 
 }  // namespace fesph

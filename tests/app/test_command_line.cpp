@@ -764,3 +764,31 @@ TEST_CASE("a run folder's scene reruns as it ran, a --set over its resolution pr
   REQUIRE(command("run fine/scene.toml" + quick + "again", dir.path).code == 0);
   CHECK(elements("again") == elements("fine"));
 }
+
+TEST_CASE("a plate made of particles: the run draws what it can and says what it cannot",
+          "[app]") {
+  // Plate images and holes are drawn from a plate's elements. A plate made of particles has
+  // none: the run's images stopped at that ("images not drawn"), with the section, velocity
+  // plot and debris table, which need no plate elements, not drawn either. The shell scene's
+  // plate as particles (its rim hold, which needs elements, left out).
+  const TempFolder dir("particle_plate");
+  std::string scene = slurp(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml");
+  scene = scene.substr(0, scene.find("[[boundary]]"));
+  const std::string plate = "name = \"plate\"\n";
+  scene.replace(scene.find(plate), plate.size(), plate + "discretisation = \"sph\"\n");
+  std::ofstream(dir.path / "scene.toml") << scene;
+  const Result run = command("run scene.toml --end-time 1e-6 --out run", dir.path);
+  INFO(run.out);
+  REQUIRE(run.code == 0);
+  CHECK(!has(run.out, "images not drawn"));
+  CHECK(has(run.out, "plates: none drawn, as no body but a projectile has elements there"));
+  CHECK(fs::exists(dir.path / "run" / "images" / "section.png"));
+  CHECK(fs::exists(dir.path / "run" / "images" / "velocity.png"));
+  CHECK(fs::exists(dir.path / "run" / "images" / "debris.csv"));
+  // The shell, asked for the plate's images, says why there are none.
+  std::ofstream(dir.path / "script") << "load scene.toml\nrender plate 1\n";
+  const Result shell = command("shell < script", dir.path);
+  INFO(shell.out);
+  CHECK(has(shell.out, "plate 'plate' has no elements at t = 0 s: plate images are drawn from "
+                       "a plate's elements"));
+}

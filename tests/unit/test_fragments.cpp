@@ -3,6 +3,7 @@
 #include "core/analysis/fragments.hpp"
 #include "core/contact/surfaces.hpp"
 #include "core/conversion/erosion.hpp"
+#include "core/sph/particle_body.hpp"
 #include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
 
@@ -134,4 +135,29 @@ TEST_CASE("a projectile has cleared a plate only when its trailing node is past 
   REQUIRE(m.nodes.m[corner] == 0);
   m.nodes.x[corner].z() = -50e-3;
   REQUIRE(residualVelocity(m, 0).cleared);
+
+  // A plate made of particles is its particles: the block above the same plate as particles
+  // (one per tetrahedron, at their centroids, down to z = -0.75 mm) has not cleared it, nor
+  // with its trailing face (2 mm above its position) at z = -0.7 mm; at -0.8 mm it has.
+  const auto overParticles = [&](double z0) {
+    Model p;
+    p.materials.push_back(steel);
+    Placement at;
+    at.translation = Vec3(0, 0, z0);
+    addBody(p, "projectile", structuredBox(Vec3::Zero(), Vec3(1e-3, 1e-3, 2e-3), 1, 1, 2), 0, at,
+            Vec3(0, 0, -500), true);
+    addParticleBody(p, "plate",
+                    structuredBox(Vec3(-5e-3, -5e-3, -1e-3), Vec3(10e-3, 10e-3, 1e-3), 4, 4, 1),
+                    0, Placement{}, Vec3::Zero(), false);
+    finaliseModel(p);
+    return p;
+  };
+  const Model particles_below = overParticles(-5e-3);
+  double lowest = 0;
+  for (const Vec3& x : particles_below.particles.x) lowest = std::min(lowest, x.z());
+  REQUIRE(lowest == Approx(-0.75e-3).epsilon(1e-12));  // a tet's centroid, a quarter up
+  CHECK_FALSE(residualVelocity(overParticles(1e-3), 0).cleared);
+  CHECK_FALSE(residualVelocity(overParticles(-2.7e-3), 0).cleared);
+  CHECK(residualVelocity(overParticles(-2.8e-3), 0).cleared);
+  CHECK(residualVelocity(particles_below, 0).cleared);
 }
