@@ -158,6 +158,8 @@ TEST_CASE("a projectile made of particles is measured at the plates as one of el
   }
   REQUIRE(lead > 1e-3);  // a centroid, behind the nose
   CHECK(bodyInitialMass(m, 0) == Approx(mass).epsilon(1e-12));
+  // Beside the plates, but behind their nodes along its flight: not clear of them yet.
+  CHECK_FALSE(residualVelocity(m, 0).cleared);
   const std::vector<Piece> pieces = bodyPieces(m, 0);
   REQUIRE(pieces.size() == 1);  // the particles of a mesh are linked: one piece
   CHECK(pieces[0].particles.size() == m.particles.size());
@@ -521,4 +523,9 @@ mesh_size = 1e-3
   CHECK(vy / m_sph > 50);
   CHECK(bodyMeanVelocity(sph, 0).y() == 0.0);
   CHECK(bodyMeanVelocity(sph, 0).z() == Approx(-1000).epsilon(1e-12));
+  // and its residual velocity, of its largest clump (the whole body), likewise
+  const ResidualVelocity r_sph = residualVelocity(sph, 0);
+  CHECK(r_sph.mass_fraction == Approx(1.0).epsilon(1e-12));
+  CHECK(r_sph.velocity.y() == 0.0);
+  CHECK(r_sph.speed == Approx(std::hypot(50.0, 1000.0)).epsilon(1e-12));
 }
