@@ -51,7 +51,7 @@ RunSession::~RunSession() = default;
 
 void RunSession::open(const std::string& scene_path, const std::vector<std::string>& overrides,
                       const std::string& out_folder, const std::string& material_library,
-                      std::ostream* log) {
+                      std::ostream* log, bool defer_output) {
   opened_ = std::chrono::steady_clock::now();
   scene_ = loadScene(scene_path, overrides, material_library);
   if (!out_folder.empty()) scene_.output.folder = out_folder;
@@ -85,10 +85,15 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
          << ") m/s: no plate will be crossed (is the velocity's sign right?)" << std::endl;
   }
 
-  clearEarlierRun(log);
-  openWriters(false, RunProgress{});
   next_output_ = scene_.output.interval;
   next_checkpoint_ = scene_.output.checkpoint_interval;
+  if (!defer_output) startOutput(log);
+}
+
+void RunSession::startOutput(std::ostream* log) {
+  if (outputStarted()) return;
+  clearEarlierRun(log);
+  openWriters(false, RunProgress{});
 }
 
 void RunSession::restart(const std::string& checkpoint, const std::vector<std::string>& overrides,
@@ -166,6 +171,9 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
 // show that run as this one's). Only files of fesph's own naming: anything else stays.
 void RunSession::clearEarlierRun(std::ostream* log) const {
   std::error_code ec;
+  // the writers opened next replace these
+  const bool series = fs::exists(fs::path(folder()) / "elements.pvd", ec) ||
+                      fs::exists(fs::path(folder()) / "history.csv", ec);
   std::size_t checkpoints = 0, images = 0;
   for (const std::string& path : listCheckpoints(folder())) checkpoints += fs::remove(path, ec);
   const auto clear = [&](const fs::path& dir) {  // drawn files, then the folder if empty
@@ -183,15 +191,18 @@ void RunSession::clearEarlierRun(std::ostream* log) const {
     for (const fs::path& t : times) clear(t);
     clear(image_dir);
   }
-  if (!log || checkpoints + images == 0) return;
+  if (!log || (!series && checkpoints + images == 0)) return;
   const auto count = [](std::size_t n, const char* one, const char* many) {
     return std::to_string(n) + " " + (n == 1 ? one : many);
   };
-  std::string removed;
-  if (checkpoints > 0) removed = count(checkpoints, "checkpoint", "checkpoints");
-  if (images > 0)
-    removed += (removed.empty() ? "" : " and ") + count(images, "file", "files") + " of images/";
-  *log << folder() << ": the run there before: removed its " << removed << std::endl;
+  std::vector<std::string> parts;
+  if (series) parts.push_back("series and histories");
+  if (checkpoints > 0) parts.push_back(count(checkpoints, "checkpoint", "checkpoints"));
+  if (images > 0) parts.push_back(count(images, "file", "files") + " of images/");
+  std::string removed = parts[0];
+  for (std::size_t k = 1; k < parts.size(); ++k)
+    removed += (k + 1 == parts.size() ? " and " : ", ") + parts[k];
+  *log << folder() << ": the run there before is replaced: its " << removed << std::endl;
 }
 
 // Going back in the checkpoint's own folder cuts its series and histories back to the
@@ -268,7 +279,8 @@ void RunSession::refuseAnotherRunsHistory(const std::string& checkpoint,
                  "Restart into another folder (--out DIR)");
 }
 
-void RunSession::checkpoint(const std::string& path) const {
+void RunSession::checkpoint(const std::string& path) {
+  startOutput();  // the checkpoint goes with this run's series and histories
   writeCheckpoint(path, model_, progress());
 }
 
@@ -303,6 +315,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
   if (!failure_.empty()) return StopReason::Failed;
   const double end = endTime();
   const double interval = scene_.output.interval;
+  startOutput();
   try {
     if (!started_) {
       writeOutput();

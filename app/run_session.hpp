@@ -46,12 +46,19 @@ class RunSession {
   RunSession& operator=(const RunSession&) = delete;
 
   /// Read the scene (with `--set` style overrides), mesh it, create the output folder (empty
-  /// `out_folder`: the scene's [output].folder), write scene.toml and open the series and
-  /// history writers. Meshing figures go to `log` when given.
+  /// `out_folder`: the scene's [output].folder) and start the output there (startOutput),
+  /// or, with `defer_output`, leave the folder's earlier run as it is until the output starts.
+  /// Meshing figures go to `log` when given.
   /// Throws InputError (bad scene) or RunError (output folder or files not writable).
   void open(const std::string& scene_path, const std::vector<std::string>& overrides,
             const std::string& out_folder, const std::string& material_library = "",
-            std::ostream* log = nullptr);
+            std::ostream* log = nullptr, bool defer_output = false);
+  /// Replace the run the folder holds with this one: remove its series, checkpoints and
+  /// images, write scene.toml and open the series and history writers (saying what went to
+  /// `log`). Done once; advance and the checkpoints start it when open deferred it.
+  void startOutput(std::ostream* log = nullptr);
+  /// The output is started: the folder holds this run, not an earlier one.
+  bool outputStarted() const { return series_ != nullptr; }
 
   /// Continue the run saved in `checkpoint`: the scene is the one stored in it (with further
   /// `overrides`, e.g. a later end time), the state is the checkpoint's, and the series,
@@ -62,7 +69,7 @@ class RunSession {
                const std::string& out_folder, std::ostream* log = nullptr);
 
   /// Write a checkpoint of the state after the last step to `path`. Throws RunError.
-  void checkpoint(const std::string& path) const;
+  void checkpoint(const std::string& path);
   /// Write FOLDER/checkpoint_<step>.h5, keep the scene's [output].checkpoints_kept newest,
   /// and return its path. Throws RunError.
   std::string checkpoint();

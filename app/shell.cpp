@@ -423,7 +423,9 @@ RunSession& Workbench::session() {
                                         "from one of its checkpoints or `load` its scene");
   if (!session_) {
     auto s = std::make_unique<RunSession>();
-    s->open(scene_path_, overrides_, options_.out, options_.materials, &std::cout);
+    // The folder's earlier run stays until this one writes: a probe or a look at the model
+    // at t = 0 must not take a finished run's results away.
+    s->open(scene_path_, overrides_, options_.out, options_.materials, &std::cout, true);
     session_ = std::move(s);
     std::printf("Model ready: %zu elements, %zu nodes, end time %.6g s, output in %s\n",
                 session_->model().elems.size(), session_->model().nodes.size(),
@@ -615,6 +617,7 @@ void Workbench::advance(double until, long steps) {
                 s.model().time);
     return;
   }
+  s.startOutput(&std::cout);  // says what of the folder's earlier run it replaces
   Progress progress(s.endTime(), interactive_);
   s.onStep([&](const Model& m) { progress.update(m.time, m.step, m.dt); });
   const StopReason why = s.advance(until, steps, stop_);
@@ -740,7 +743,7 @@ void Workbench::compare(const std::vector<std::string>& a) {
 void Workbench::plot(const std::vector<std::string>& a) {
   if (a.size() != 1 || a[0] != "velocity") throw UsageError("usage: plot velocity");
   const fs::path folder = runFolder();
-  if (!session_ && !scene_path_.empty())
+  if (!scene_path_.empty() && !(session_ && session_->outputStarted()))
     throw UsageError("nothing has run yet: `run` or `step` first");
   const std::string png = (folder / "shell" / "velocity.png").string();
   fs::create_directories(folder / "shell");
@@ -840,6 +843,7 @@ void Workbench::probe(const std::vector<std::string>& a) {
 void Workbench::checkpoint(const std::vector<std::string>& a) {
   if (a.size() > 1) throw UsageError("usage: checkpoint [FILE]");
   RunSession& s = session();
+  s.startOutput(&std::cout);
   std::string path;
   if (a.empty()) {
     path = s.checkpoint();
@@ -920,7 +924,12 @@ void Workbench::report(const std::vector<std::string>& a) {
     else
       o.run_dirs.push_back(a[k]);
   }
-  if (o.run_dirs.empty()) o.run_dirs.push_back(runFolder());
+  if (o.run_dirs.empty()) {
+    // the folder holds an earlier run until this one writes
+    if (!scene_path_.empty() && !(session_ && session_->outputStarted()))
+      throw UsageError("nothing has run yet: `run` or `step` first, or give RUN_DIR");
+    o.run_dirs.push_back(runFolder());
+  }
   writeStatus();
   if (reportCommand(o) != 0) throw Reported();
 }
@@ -928,7 +937,7 @@ void Workbench::report(const std::vector<std::string>& a) {
 void Workbench::writeStatus() const {
   // summary.toml says where the shell's run stands, for `fesph report` and a reader of the
   // folder; without it the folder kept the "running" of its last field output.
-  if (!session_) return;
+  if (!session_ || !session_->outputStarted()) return;
   const RunSession& s = *session_;
   s.writeSummary(s.folder() + "/summary.toml", !s.failure().empty() ? "failed"
                                                : s.complete()        ? "complete"

@@ -3,6 +3,7 @@
 #include "render/photo_compare.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/number_text.hpp"
 #include "render/plate_images.hpp"
 #include "render/vtk_errors.hpp"
 
@@ -113,8 +114,8 @@ void writeGrayPng(const GrayImage& image, const std::string& path) {
   writePng(px.data(), image.width, image.height, 1, path);
 }
 
-SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int body, bool half,
-                                  double* step_time) {
+SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int body,
+                                  const std::string& name, bool half, double* step_time) {
   const render_detail::RunStep step = render_detail::readRunStep(run_dir, time);
   vtkUnstructuredGrid* grid = step.elements;
   vtkDataArray* bodies = grid->GetCellData()->GetArray("body");
@@ -131,8 +132,10 @@ SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int b
                     static_cast<int>(ids->GetId(2)), static_cast<int>(ids->GetId(3))});
   }
   if (tets.empty())
-    throw RunError(run_dir + ": body " + std::to_string(body) + " has no live element at t = " +
-                   std::to_string(step.time) + " s");
+    throw RunError(run_dir + ": plate '" + name + "' has no live element at t = " +
+                   shortestText(step.time) +
+                   " s: its holes are measured from its elements (a plate made of particles "
+                   "has none)");
   HoleOptions options;
   options.mirror = half;  // the half model's symmetry plane is y = 0
   if (step_time) *step_time = step.time;

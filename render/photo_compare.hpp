@@ -16,10 +16,12 @@ GrayImage readPhoto(const std::string& path);
 /// Write `image` (row 0 at the top) as an 8-bit grey PNG. Throws RunError.
 void writeGrayPng(const GrayImage& image, const std::string& path);
 
-/// Body `body` of the run in `run_dir` at the output step nearest to `time` (< 0: the last),
-/// as the photograph would show it (half models mirrored on y = 0). `*step_time` gets the
-/// time of the step read. Throws RunError.
-SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int body, bool half,
+/// Body `body` (named `name`) of the run in `run_dir` at the output step nearest to `time`
+/// (< 0: the last), as the photograph would show it (half models mirrored on y = 0).
+/// `*step_time` gets the time of the step read. Throws RunError, also for a body with no
+/// element there (a plate made of particles).
+SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int body,
+                                  const std::string& name, bool half,
                                   double* step_time = nullptr);
 
 /// Side by side, on the photograph's grid and scale: the photograph with its holes outlined in

@@ -465,7 +465,8 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
   CHECK(!fs::exists(dir.path / "run" / "images" / "holes.csv"));
   CHECK(!fs::exists(dir.path / "run" / "images" / "t_1e-06"));
   CHECK(fs::exists(dir.path / "run" / "images" / "notes.txt"));  // not fesph's: kept
-  CHECK(has(second.out, "the run there before: removed its 3 checkpoints and 14 files of images/"));
+  CHECK(has(second.out, "the run there before is replaced: its series and histories, 3 checkpoints "
+                        "and 14 files of images/"));
 
   // A checkpoint of the first run put back into the folder is refused there, and the failed
   // restart leaves the second run's files as they were (it rewrote scene.toml first).
@@ -489,7 +490,7 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
   INFO(elsewhere.out);
   CHECK(elsewhere.code == 0);
   CHECK(!fs::exists(dir.path / "elsewhere" / "checkpoint_000000999.h5"));
-  CHECK(has(elsewhere.out, "the run there before: removed its 1 checkpoint\n"));
+  CHECK(has(elsewhere.out, "the run there before is replaced: its 1 checkpoint\n"));
 
   // A third run: the images folder, fesph's files alone now, goes with them.
   fs::remove(dir.path / "run" / "images" / "notes.txt");
@@ -498,7 +499,8 @@ TEST_CASE("a run into another run's folder replaces it whole, and that run's che
       runTestScene("--end-time 2e-6 --set output.checkpoint_interval=1e-6", dir.path);
   INFO(third.out);
   REQUIRE(third.code == 0);
-  CHECK(has(third.out, "the run there before: removed its 7 files of images/"));
+  CHECK(has(third.out, "the run there before is replaced: its series and histories and 7 files of "
+                       "images/"));
   CHECK(!fs::exists(dir.path / "run" / "images"));
   // A restart of its own that fails on the run's files (run.h5 damaged) leaves the scene as
   // run as it was, where the scene with the restart's changes was written before the files
@@ -785,6 +787,20 @@ TEST_CASE("a plate made of particles: the run draws what it can and says what it
   CHECK(fs::exists(dir.path / "run" / "images" / "section.png"));
   CHECK(fs::exists(dir.path / "run" / "images" / "velocity.png"));
   CHECK(fs::exists(dir.path / "run" / "images" / "debris.csv"));
+  CHECK(has(run.out, "(1 clump of free particles, 0 would strike a plate)"));  // the plate
+  // fesph compare measures the plate's holes from its elements: it names the plate and why.
+  {
+    std::ofstream photo(dir.path / "photo.pgm", std::ios::binary);  // a dark disc, r = 20 px
+    photo << "P5\n100 100\n255\n";
+    for (int j = 0; j < 100; ++j)
+      for (int i = 0; i < 100; ++i)
+        photo.put(static_cast<char>(std::hypot(i - 49.5, j - 49.5) < 20 ? 30 : 200));
+  }
+  const Result compared = command("compare run --image photo.pgm --mm-per-px 0.1", dir.path);
+  INFO(compared.out);
+  CHECK(compared.code == 1);
+  CHECK(has(compared.out, "run: plate 'plate' has no live element at t = 1e-06 s: its holes are "
+                          "measured from its elements (a plate made of particles has none)"));
   // The shell, asked for the plate's images, says why there are none.
   std::ofstream(dir.path / "script") << "load scene.toml\nrender plate 1\n";
   const Result shell = command("shell < script", dir.path);

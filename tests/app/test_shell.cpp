@@ -384,7 +384,7 @@ TEST_CASE("fesph shell: a run paused at times of the user's is the run straight 
   INFO(a.out << "\n----\n" << b.out);
   REQUIRE(a.code == 0);
   REQUIRE(b.code == 0);
-  for (const char* file : {"elements_000002.vtu", "elements_000004.vtu", "particles_000004.vtp",
+  for (const char* file : {"elements_000001.vtu", "elements_000004.vtu", "particles_000004.vtp",
                            "history.csv", "residual_velocities.csv"}) {
     INFO(file);
     REQUIRE(fs::exists(straight / file));
@@ -460,6 +460,56 @@ TEST_CASE("fesph shell: the run folder's summary says where the run stands and w
         std::string::npos);
   CHECK(shown.out.find(" of 4e-06 s, step " + summaryValue(out, "steps") + "\n") !=
         std::string::npos);
+}
+
+TEST_CASE("fesph shell: a finished run in the folder stays until the shell's own run writes",
+          "[app][shell]") {
+  // Loading the scene and probing it at t = 0 removed the finished run its folder held (its
+  // series and images), and `plot velocity` then drew that run's history as the shell's.
+  TempFolder dir("shell_keeps_run");
+  const fs::path out = dir.path / "run";
+  const std::string first =
+      fesph::testing::runCommand(std::string(FESPH_BINARY) + " run " + kScene + " --out " +
+                                 out.string() + " --end-time 1e-6 --quiet 2>&1")
+          .out;
+  INFO(first);
+  REQUIRE(fs::exists(out / "elements_000001.vtu"));
+  REQUIRE(fs::exists(out / "images" / "plate_front.png"));
+  const std::string pvd = slurp(out / "elements.pvd"), summary = slurp(out / "summary.toml");
+  // `report RUN_DIR` of that run is one of it: the shell's status is not written over it.
+  const Result looked = shell(kScene + " --out " + out.string(),
+                              "probe\nplot velocity\nreport\nshow\nreport " + out.string() +
+                                  " --out " + (dir.path / "report").string() + "\n",
+                              dir.path);
+  INFO(looked.out);
+  CHECK(looked.out.find("projectile 'projectile'") != std::string::npos);  // the probe ran
+  CHECK(occurrences(looked.out, "nothing has run yet: `run` or `step` first") == 2);
+  CHECK(looked.out.find("the run there before") == std::string::npos);
+  CHECK(slurp(out / "elements.pvd") == pvd);
+  CHECK(slurp(out / "summary.toml") == summary);
+  CHECK(fs::exists(out / "elements_000001.vtu"));
+  CHECK(fs::exists(out / "images" / "plate_front.png"));
+  CHECK(fs::exists(dir.path / "report" / "report.md"));
+  // A step is the shell's run: it replaces the run there, and says so.
+  const Result stepped =
+      shell(kScene + " --out " + out.string(), "probe\nstep 2\nplot velocity\n", dir.path);
+  INFO(stepped.out);
+  CHECK(stepped.code == 0);
+  CHECK(stepped.out.find(out.string() + ": the run there before is replaced: its series and "
+                                        "histories and 7 files of images/") != std::string::npos);
+  CHECK(!fs::exists(out / "elements_000001.vtu"));
+  CHECK(!fs::exists(out / "images" / "plate_front.png"));
+  CHECK(summaryValue(out, "status") == "\"paused\"");
+  // So does a checkpoint, which goes with this run's series and histories.
+  fesph::testing::runCommand(std::string(FESPH_BINARY) + " run " + kScene + " --out " +
+                             out.string() + " --end-time 1e-6 --quiet --no-images 2>&1");
+  const Result saved = shell(kScene + " --out " + out.string(), "checkpoint\n", dir.path);
+  INFO(saved.out);
+  CHECK(saved.code == 0);
+  CHECK(saved.out.find("the run there before is replaced: its series and histories") !=
+        std::string::npos);
+  CHECK(!fs::exists(out / "elements_000001.vtu"));
+  CHECK(fs::exists(out / "checkpoint_000000000.h5"));
 }
 
 TEST_CASE("fesph shell: going back past a later checkpoint is refused, --out goes on elsewhere",

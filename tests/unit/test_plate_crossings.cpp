@@ -83,6 +83,17 @@ Model shotWithFrontHalfConverted(const char* folder) {
   return m;
 }
 
+/// Steps `m` to its end time, updating `crossings` after every step; the largest step, s.
+double runToEnd(Model& m, PlateCrossings& crossings) {
+  double dt_max = 0;
+  while (m.time < m.controls.end_time * (1 - 1e-12)) {
+    step(m, m.controls.end_time);
+    dt_max = std::max(dt_max, m.dt);
+    crossings.update(m);
+  }
+  return dt_max;
+}
+
 }  // namespace
 
 TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[unit][analysis]") {
@@ -96,12 +107,7 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   // Measuring planes: the clear gap (8 mm) behind each rear face, i.e. z = -15 mm (the front
   // face of the second plate) and z = -25 mm.
   CHECK(crossings.plates()[0].measure_depth == Approx(10e-3));
-  double dt_max = 0;
-  while (m.time < m.controls.end_time * (1 - 1e-12)) {
-    step(m, m.controls.end_time);
-    dt_max = std::max(dt_max, m.dt);
-    crossings.update(m);
-  }
+  const double dt_max = runToEnd(m, crossings);
   // The nose (z = 1 mm at t = 0) reaches z = -5, -15, -25 mm at 6, 16 and 26 us; each event is
   // seen at the end of the step in which it happens (within one step).
   const auto& p = crossings.plates();
@@ -168,12 +174,7 @@ TEST_CASE("a projectile made of particles is measured at the plates as one of el
   PlateCrossings crossings(sc, m);
   REQUIRE(crossings.plates().size() == 2);
   CHECK(crossings.projectileName() == "shot");
-  double dt_max = 0;
-  while (m.time < m.controls.end_time * (1 - 1e-12)) {
-    step(m, m.controls.end_time);
-    dt_max = std::max(dt_max, m.dt);
-    crossings.update(m);
-  }
+  const double dt_max = runToEnd(m, crossings);
   const auto& p = crossings.plates();
   const double to = lead / 1000;  // s, flight time of the leading particle to z = 0
   CHECK(p[0].t_contact == Approx(to + 5e-6).margin(dt_max));   // z = -5 mm
