@@ -87,12 +87,14 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
 
   next_output_ = scene_.output.interval;
   next_checkpoint_ = scene_.output.checkpoint_interval;
-  if (!defer_output) startOutput(log);
+  log_ = log;
+  if (!defer_output) startOutput();
 }
 
-void RunSession::startOutput(std::ostream* log) {
+// Once: the run the folder holds goes, this one's writers open.
+void RunSession::startOutput() {
   if (outputStarted()) return;
-  clearEarlierRun(log);
+  clearEarlierRun(log_);
   openWriters(false, RunProgress{});
 }
 

@@ -46,17 +46,15 @@ class RunSession {
   RunSession& operator=(const RunSession&) = delete;
 
   /// Read the scene (with `--set` style overrides), mesh it, create the output folder (empty
-  /// `out_folder`: the scene's [output].folder) and start the output there (startOutput),
-  /// or, with `defer_output`, leave the folder's earlier run as it is until the output starts.
-  /// Meshing figures go to `log` when given.
+  /// `out_folder`: the scene's [output].folder) and start the output there: the run the
+  /// folder holds is replaced (its series, checkpoints and images removed), scene.toml
+  /// written and the series and history writers opened. With `defer_output` the folder's
+  /// earlier run stays until the first advance or checkpoint starts the output.
+  /// Meshing figures, and what the start of the output replaces, go to `log` when given.
   /// Throws InputError (bad scene) or RunError (output folder or files not writable).
   void open(const std::string& scene_path, const std::vector<std::string>& overrides,
             const std::string& out_folder, const std::string& material_library = "",
             std::ostream* log = nullptr, bool defer_output = false);
-  /// Replace the run the folder holds with this one: remove its series, checkpoints and
-  /// images, write scene.toml and open the series and history writers (saying what went to
-  /// `log`). Done once; advance and the checkpoints start it when open deferred it.
-  void startOutput(std::ostream* log = nullptr);
   /// The output is started: the folder holds this run, not an earlier one.
   bool outputStarted() const { return series_ != nullptr; }
 
@@ -120,6 +118,7 @@ class RunSession {
   void refuseToCutLaterCheckpoints(const std::string& checkpoint) const;
   void refuseAnotherRunsHistory(const std::string& checkpoint, const RunProgress& saved) const;
   void clearEarlierRun(std::ostream* log) const;
+  void startOutput();
   void writeFailedState();
   void openWriters(bool resume, const RunProgress& progress);
   RunProgress progress() const;
@@ -132,6 +131,7 @@ class RunSession {
   std::unique_ptr<PlateCrossings> crossings_;
   std::unique_ptr<HistoryH5> history_h5_;
   std::function<void(const Model&)> on_step_;
+  std::ostream* log_ = nullptr;  ///< open's log, for the output started later
   std::string failure_;
   bool started_ = false;     ///< the initial output is written
   long output_index_ = 0;    ///< field outputs written after the initial one

@@ -617,7 +617,6 @@ void Workbench::advance(double until, long steps) {
                 s.model().time);
     return;
   }
-  s.startOutput(&std::cout);  // says what of the folder's earlier run it replaces
   Progress progress(s.endTime(), interactive_);
   s.onStep([&](const Model& m) { progress.update(m.time, m.step, m.dt); });
   const StopReason why = s.advance(until, steps, stop_);
@@ -843,7 +842,6 @@ void Workbench::probe(const std::vector<std::string>& a) {
 void Workbench::checkpoint(const std::vector<std::string>& a) {
   if (a.size() > 1) throw UsageError("usage: checkpoint [FILE]");
   RunSession& s = session();
-  s.startOutput(&std::cout);
   std::string path;
   if (a.empty()) {
     path = s.checkpoint();

@@ -70,9 +70,19 @@ struct MeshQuality {
 /// throws InputError (with no file).
 TetMesh meshPlate(const PlateSpec& spec);
 TetMesh meshProjectile(const ProjectileSpec& spec);
-/// Read the tetrahedra of a Gmsh .msh file (ASCII 2.2 or 4.1). Coordinates are multiplied by
-/// `scale` (e.g. 1e-3 for a file in mm). Bad files throw InputError naming file and line.
-TetMesh readMsh(const std::string& path, double scale = 1.0);
+/// A physical volume of a Gmsh mesh, by name or by tag; neither: every volume.
+struct MshVolume {
+  std::string name;
+  long long tag = 0;  ///< Gmsh's physical tags are positive
+  bool all() const { return name.empty() && tag == 0; }
+};
+
+/// Read the tetrahedra of a Gmsh .msh file (ASCII 2.2 or 4.1), those of the physical volume
+/// `volume` only when it names one (a body of a mesh with several, e.g. a core and its
+/// jacket). Coordinates are multiplied by `scale` (e.g. 1e-3 for a file in mm). Bad files
+/// throw InputError naming file and line; a volume that holds no tet, naming the file's
+/// physical volumes.
+TetMesh readMsh(const std::string& path, double scale = 1.0, const MshVolume& volume = {});
 MeshQuality meshQuality(const TetMesh& mesh);
 
 /// Signed volume of the tet (a, b, c, d): det[b-a, c-a, d-a] / 6.

@@ -11,6 +11,8 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <set>
 #include <string_view>
 #include <unordered_map>
 
@@ -74,6 +76,7 @@ class MshLines {
     return "'" + std::string(t.substr(0, 40)) + (t.size() > 40 ? "...'" : "'");
   }
   int line() const { return line_; }
+  const std::string& text() const { return text_; }
 
   long long integer(std::size_t i, const char* what) const {
     const std::string_view t = tokens_[i];
@@ -125,6 +128,7 @@ struct RawTet {
   long long tag;
   std::array<long long, 4> nodes;
   int line;
+  long long group;  ///< 2.2: its physical tag (0: none); 4.1: its volume entity's tag
 };
 
 /// What the sections hold, before node tags are resolved.
@@ -133,6 +137,9 @@ struct RawMesh {
   std::unordered_map<long long, int> node_index;  // node tag -> position in `nodes`
   std::vector<RawTet> tets;
   int elements_line = 0;  // line of the $Elements header, for "no tetrahedra"
+  bool groups_are_entities = false;  // 4.1: RawTet::group is an entity (its physicals below)
+  std::map<long long, std::vector<long long>> volume_physicals;  // 4.1 volume entity -> tags
+  std::map<long long, std::string> volume_names;  // physical tag -> name (dimension 3)
 };
 
 enum class MshVersion { V2, V41 };
@@ -192,11 +199,11 @@ void readNodesV41(MshLines& in, RawMesh& mesh, double scale) {
   }
 }
 
-/// Keeps a tet whose node tags start at token `first` of the current line.
-void addTet(MshLines& in, RawMesh& mesh, long long tag, std::size_t first) {
+/// Keeps a tet of `group` whose node tags start at token `first` of the current line.
+void addTet(MshLines& in, RawMesh& mesh, long long tag, std::size_t first, long long group) {
   if (in.size() != first + 4)
     in.fail("expected 4 node tags for tetrahedron " + std::to_string(tag));
-  RawTet t{tag, {}, in.line()};
+  RawTet t{tag, {}, in.line(), group};
   for (int k = 0; k < 4; ++k) t.nodes[k] = in.integer(first + k, "a node tag");
   mesh.tets.push_back(t);
 }
@@ -220,7 +227,9 @@ void readElementsV2(MshLines& in, RawMesh& mesh) {
     const long long tag = in.integer(0, "an element tag");
     const long long num_tags = in.count(2, "the number of element tags");
     const long long type = in.integer(1, "an element type");
-    if (type == kLinearTet) addTet(in, mesh, tag, 3 + num_tags);
+    // the first tag is the physical group (Gmsh writes 0 for none)
+    const long long physical = num_tags > 0 && in.size() > 3 ? in.integer(3, "a physical tag") : 0;
+    if (type == kLinearTet) addTet(in, mesh, tag, 3 + num_tags, physical);
     else if (!volumeElementName(type).empty()) otherVolumeElement(in, tag, type);
   }
 }
@@ -233,6 +242,7 @@ void readElementsV41(MshLines& in, RawMesh& mesh) {
     in.next(4, "an element block header: entityDim entityTag elementType numElementsInBlock");
     // A block of a volume entity holds volume elements whatever their type.
     const bool volume = in.integer(0, "an entity dimension") == 3;
+    const long long entity = in.integer(1, "an entity tag");
     const long long type = in.integer(2, "an element type");
     const bool tets = type == kLinearTet;
     const bool other = !tets && (volume || !volumeElementName(type).empty());
@@ -240,13 +250,45 @@ void readElementsV41(MshLines& in, RawMesh& mesh) {
     for (long long i = 0; i < n; ++i) {
       in.next(2, "an element: tag nodes...");
       const long long tag = in.integer(0, "an element tag");
-      if (tets) addTet(in, mesh, tag, 1);
+      if (tets) addTet(in, mesh, tag, 1, entity);
       else if (other) otherVolumeElement(in, tag, type);
     }
   }
 }
 
-/// Skips a section the tets do not need ($PhysicalNames, $Entities, $Periodic, $NodeData...).
+/// $PhysicalNames: "dimension tag \"name\"" per line; the volumes' names are kept.
+void readPhysicalNames(MshLines& in, RawMesh& mesh) {
+  in.next(1, "the number of physical names");
+  const long long n = in.count(0, "the number of physical names");
+  for (long long i = 0; i < n; ++i) {
+    in.next(3, "a physical name: dimension tag \"name\"");
+    const std::string& text = in.text();
+    const std::size_t open = text.find('"'), close = text.rfind('"');
+    if (open == std::string::npos || close == open)
+      in.fail("expected a physical name in double quotes");
+    if (in.integer(0, "a dimension") == 3)
+      mesh.volume_names[in.integer(1, "a physical tag")] = text.substr(open + 1, close - open - 1);
+  }
+}
+
+/// 4.1 $Entities: the physical tags of each volume ("tag minX minY minZ maxX maxY maxZ
+/// numPhysicalTags tags... numBoundingSurfaces tags..."); points, curves, surfaces skipped.
+void readEntitiesV41(MshLines& in, RawMesh& mesh) {
+  in.next(4, "numPoints numCurves numSurfaces numVolumes");
+  const long long skip = in.count(0, "the number of points") + in.count(1, "the number of curves") +
+                         in.count(2, "the number of surfaces");
+  const long long volumes = in.count(3, "the number of volumes");
+  for (long long i = 0; i < skip; ++i) in.next(1, "an entity");
+  for (long long i = 0; i < volumes; ++i) {
+    in.next(8, "a volume: tag minX minY minZ maxX maxY maxZ numPhysicalTags tags...");
+    const long long n = in.count(7, "the number of physical tags");
+    if (in.size() < static_cast<std::size_t>(8 + n)) in.fail("expected " + std::to_string(n) + " physical tags");
+    std::vector<long long>& tags = mesh.volume_physicals[in.integer(0, "a volume tag")];
+    for (long long k = 0; k < n; ++k) tags.push_back(in.integer(8 + k, "a physical tag"));
+  }
+}
+
+/// Skips a section the tets do not need ($Periodic, $NodeData, $PartitionedEntities...).
 void skipSection(MshLines& in, const std::string& end) {
   do {
     if (!in.advance()) in.fail("premature end of file: expected " + end);
@@ -256,6 +298,7 @@ void skipSection(MshLines& in, const std::string& end) {
 RawMesh readSections(MshLines& in, double scale) {
   const MshVersion version = readHeader(in);
   RawMesh mesh;
+  mesh.groups_are_entities = version == MshVersion::V41;
   while (in.advance()) {
     const std::string section = in.token(0);
     if (section[0] != '$')
@@ -267,6 +310,12 @@ RawMesh readSections(MshLines& in, double scale) {
     } else if (section == "$Elements") {
       mesh.elements_line = in.line();
       version == MshVersion::V2 ? readElementsV2(in, mesh) : readElementsV41(in, mesh);
+      in.expectKeyword(end);
+    } else if (section == "$PhysicalNames") {
+      readPhysicalNames(in, mesh);
+      in.expectKeyword(end);
+    } else if (section == "$Entities" && version == MshVersion::V41) {
+      readEntitiesV41(in, mesh);
       in.expectKeyword(end);
     } else {
       skipSection(in, end);
@@ -296,16 +345,64 @@ std::vector<std::array<int, 4>> resolveTets(const std::string& path, const RawMe
   return tets;
 }
 
+/// The physical volumes the tets belong to, as "1 \"core\", 2 \"jacket\"" (a tag without a
+/// name alone); "none" when no tet has one.
+std::string physicalVolumes(const RawMesh& raw) {
+  std::set<long long> tags;
+  for (const RawTet& t : raw.tets) {
+    if (!raw.groups_are_entities) {
+      if (t.group != 0) tags.insert(t.group);
+    } else if (const auto it = raw.volume_physicals.find(t.group); it != raw.volume_physicals.end()) {
+      tags.insert(it->second.begin(), it->second.end());
+    }
+  }
+  std::string list;
+  for (long long tag : tags) {
+    list += (list.empty() ? "" : ", ") + std::to_string(tag);
+    if (const auto it = raw.volume_names.find(tag); it != raw.volume_names.end())
+      list += " \"" + it->second + "\"";
+  }
+  return list.empty() ? "none" : list;
+}
+
+/// Keeps the tets of the physical volume `volume` asks for (all when it asks for none).
+void selectVolume(const std::string& path, RawMesh& raw, const MshVolume& volume) {
+  if (volume.all()) return;
+  long long tag = volume.tag;
+  if (!volume.name.empty()) {
+    tag = 0;
+    for (const auto& [t, name] : raw.volume_names)
+      if (name == volume.name) tag = t;
+  }
+  const auto inVolume = [&](const RawTet& t) {
+    if (!raw.groups_are_entities) return t.group == tag;
+    const auto it = raw.volume_physicals.find(t.group);
+    return it != raw.volume_physicals.end() &&
+           std::find(it->second.begin(), it->second.end(), tag) != it->second.end();
+  };
+  const std::string list = physicalVolumes(raw);
+  raw.tets.erase(std::remove_if(raw.tets.begin(), raw.tets.end(),
+                                [&](const RawTet& t) { return !inVolume(t); }),
+                 raw.tets.end());
+  if (raw.tets.empty())
+    throw InputError(path, 0, 0,
+                     "no tetrahedra in the physical volume " +
+                         (volume.name.empty() ? std::to_string(volume.tag)
+                                              : "\"" + volume.name + "\"") +
+                         "; the mesh's physical volumes: " + list);
+}
+
 }  // namespace
 
-TetMesh readMsh(const std::string& path, double scale) {
+TetMesh readMsh(const std::string& path, double scale, const MshVolume& volume) {
   if (!(scale > 0 && std::isfinite(scale)))
     throw InputError(path, 0, 0, "mesh scale must be a positive number");
   MshLines in(path);
-  const RawMesh raw = readSections(in, scale);
+  RawMesh raw = readSections(in, scale);
   if (raw.tets.empty())
     throw InputError(path, raw.elements_line > 0 ? raw.elements_line : in.line(), 0,
                      "no linear tetrahedra (element type 4) in the mesh");
+  selectVolume(path, raw, volume);
   return mesh_detail::assembleTetMesh(raw.nodes, resolveTets(path, raw));
 }
 

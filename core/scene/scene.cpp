@@ -458,10 +458,20 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
   } else if (type == "projectile") {
     b.shape = readProjectile(shape, file, sc.half);
   } else {
-    allowKeys(shape, file, {"type", "file", "scale"}, "msh shape");
+    allowKeys(shape, file, {"type", "file", "scale", "physical"}, "msh shape");
     MshShape m;
     m.path = (fs::path(file).parent_path() / string(shape, "file", file)).string();
     m.scale = positive(shape, "scale", file, m.scale);
+    // A physical volume of the file, by name or by its (positive) tag.
+    if (const toml::node* n = shape.get("physical")) {
+      if (n->is_string() && !n->as_string()->get().empty())
+        m.volume.name = n->as_string()->get();
+      else if (n->is_integer() && n->as_integer()->get() > 0)
+        m.volume.tag = n->as_integer()->get();
+      else
+        fail(file, n->source(),
+             "'physical' must be a physical volume's name (a string) or tag (an integer > 0)");
+    }
     if (!fs::exists(m.path)) fail(file, where(shape, "file"), "mesh file not found: " + m.path);
     b.shape = m;
   }

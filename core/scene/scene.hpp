@@ -18,6 +18,7 @@ namespace fesph {
 struct MshShape {
   std::string path;  ///< resolved against the scene's folder
   double scale = 1.0;
+  MshVolume volume;  ///< the physical volume that is the body (none: every volume)
 };
 
 struct SceneBody {

@@ -29,7 +29,13 @@ TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
     throw InputError(scene_path, b.line, 0, "body '" + b.name + "': " + e.message());
   }
   const auto& m = std::get<MshShape>(b.shape);
-  return readMsh(m.path, m.scale);
+  try {
+    return readMsh(m.path, m.scale, m.volume);
+  } catch (const InputError& e) {
+    // A physical volume the file lacks is the scene's mistake: said at the body's table.
+    if (e.line() != 0 || m.volume.all()) throw;
+    throw InputError(scene_path, b.line, 0, "body '" + b.name + "': " + e.what());
+  }
 }
 
 // Nodes on the lateral faces of a plate, found in its local frame.

@@ -388,6 +388,56 @@ TEST_CASE("readMsh orients tets and skips other elements", "[unit][mesh]") {
   CHECK(meshQuality(m).volume == Approx(1.0 / 3.0).epsilon(1e-14));  // two tets of 1/6
 }
 
+TEST_CASE("readMsh takes one physical volume of a mesh with several, by name or tag",
+          "[unit][mesh]") {
+  // A core and its jacket meshed as one file: each a body of its own material. 2.2: the
+  // first element tag is the physical group; 4.1: the element block's volume entity has its
+  // physical tags in $Entities. The names come from $PhysicalNames (dimension 3).
+  auto lines = kSmallMsh22;
+  lines.at(14) = "2 4 2 5 1 1 2 3 4";  // physical 5
+  lines.at(15) = "3 4 2 7 1 1 2 3 5";  // physical 7
+  lines.insert(lines.begin() + 3,
+               {"$PhysicalNames", "3", "3 5 \"core\"", "2 5 \"skin\"", "3 7 \"steel jacket\"",
+                "$EndPhysicalNames"});  // tags count per dimension: a surface's 5 is another 5
+  const std::string path = writeTemp("groups.msh", joinLines(lines));
+  CHECK(readMsh(path).tets.size() == 2);  // every volume
+  const TetMesh core = readMsh(path, 1.0, {"core"});
+  REQUIRE(core.tets.size() == 1);
+  CHECK(core.nodes.size() == 4);  // the nodes of its tet only
+  double z_max = 0;
+  for (const Vec3& x : core.nodes) z_max = std::max(z_max, x.z());
+  CHECK(z_max == 1.0);  // node 4 (0, 0, 1): the first tet's
+  const TetMesh jacket = readMsh(path, 1.0, {"steel jacket"});  // a name with a blank
+  REQUIRE(jacket.tets.size() == 1);
+  for (const Vec3& x : jacket.nodes) CHECK(x.z() <= 0.0);  // node 5 (0, 0, -1), not node 4
+  CHECK(readMsh(path, 1.0, {"", 7}).tets.size() == 1);
+  // a volume the file lacks (a surface's name is no volume's) names those it has
+  for (const MshVolume& missing : {MshVolume{"skin"}, MshVolume{"", 3}}) {
+    try {
+      readMsh(path, 1.0, missing);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK_THAT(e.what(), Catch::Matchers::Contains(
+                               "the mesh's physical volumes: 5 \"core\", 7 \"steel jacket\""));
+    }
+  }
+  std::filesystem::remove(path);
+
+  // 4.1: the cube's one volume (entity 1, line 32) given the physical tag 9, named "cube".
+  auto v41 = cubeV41Lines();
+  REQUIRE(v41.at(31).rfind("1 ", 0) == 0);
+  REQUIRE(v41.at(31).find(" 0 6 1 2 3 4 5 6") != std::string::npos);
+  v41.at(31).replace(v41.at(31).find(" 0 6 1 2 3 4 5 6"), 16, " 1 9 6 1 2 3 4 5 6");
+  v41.insert(v41.begin() + 3, {"$PhysicalNames", "1", "3 9 \"cube\"", "$EndPhysicalNames"});
+  const std::string p41 = writeTemp("groups41.msh", joinLines(v41));
+  CHECK(readMsh(p41, 1e-3, {"cube"}).tets.size() == 100);
+  CHECK(readMsh(p41, 1e-3, {"", 9}).tets.size() == 100);
+  CHECK_THROWS_WITH(readMsh(p41, 1e-3, {"core"}),
+                    Catch::Matchers::Contains("no tetrahedra in the physical volume \"core\"; "
+                                              "the mesh's physical volumes: 9 \"cube\""));
+  std::filesystem::remove(p41);
+}
+
 TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
   SECTION("missing file") {
     const std::string path = dataFile("no_such_file.msh");

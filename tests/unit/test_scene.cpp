@@ -425,6 +425,64 @@ TEST_CASE("the meshing log gives each body's size and mass, and warns of an .msh
         std::string::npos);
 }
 
+TEST_CASE("two bodies of one .msh: each its physical volume, of its own material",
+          "[unit][scene]") {
+  // Two tets sharing a face (z = 0), physical volumes 5 "core" and 7 "jacket": a core of
+  // steel and a jacket of copper, touching, from the one file.
+  const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
+  fs::create_directories(dir);
+  std::ofstream(dir / "two.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n"
+                                    "3 5 \"core\"\n3 7 \"jacket\"\n$EndPhysicalNames\n$Nodes\n5\n"
+                                    "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n$EndNodes\n"
+                                    "$Elements\n2\n1 4 2 5 1 1 2 3 4\n2 4 2 7 1 1 3 2 5\n"
+                                    "$EndElements\n";
+  const auto body = [](const std::string& name, const std::string& material,
+                       const std::string& physical) {
+    return "[[bodies]]\nname = \"" + name + "\"\nmaterial = \"" + material +
+           "\"\nprojectile = true\nvelocity = [0, 0, -100]\n[bodies.shape]\ntype = \"msh\"\n"
+           "file = \"two.msh\"\nscale = 1e-3\nphysical = " + physical + "\n";
+  };
+  const std::string head = "title = \"core and jacket\"\n[simulation]\nend_time = 1e-6\n";
+  const Model m = buildModel(loadScene(
+      writeScene("two.toml", head + body("core", "steel_4340", "\"core\"") +
+                                 body("jacket", "OFHC_copper", "7")),
+      {}, library()));
+  REQUIRE(m.bodies.size() == 2);
+  CHECK(m.bodies[0].elem_end - m.bodies[0].elem_begin == 1);
+  CHECK(m.bodies[1].elem_end - m.bodies[1].elem_begin == 1);
+  CHECK(m.materials[m.bodies[0].material].rho0 == 7830.0);  // scenes/materials.toml
+  CHECK(m.materials[m.bodies[1].material].rho0 == 8960.0);
+  double core_z = 0, jacket_z = 0;  // the core above the shared face, the jacket below
+  for (std::size_t a = m.bodies[0].node_begin; a < m.bodies[0].node_end; ++a)
+    core_z = std::max(core_z, m.nodes.x[a].z());
+  for (std::size_t a = m.bodies[1].node_begin; a < m.bodies[1].node_end; ++a)
+    jacket_z = std::min(jacket_z, m.nodes.x[a].z());
+  CHECK(core_z == 1e-3);
+  CHECK(jacket_z == -1e-3);
+  // A volume the file lacks: said at the body's table, with the volumes it has; a physical
+  // that is neither a name nor a tag, at its key.
+  const std::string lacks =
+      writeScene("two_lacks.toml", head + body("core", "steel_4340", "\"cor\""));
+  const auto missing = thrownBy([&] { buildModel(loadScene(lacks, {}, library())); });
+  REQUIRE(missing);
+  INFO(missing->what());
+  CHECK(missing->file() == lacks);
+  CHECK(missing->line() == 4);
+  CHECK(std::string(missing->what()).find("body 'core': ") != std::string::npos);
+  CHECK(std::string(missing->what())
+            .find("no tetrahedra in the physical volume \"cor\"; the mesh's physical volumes: 5 "
+                  "\"core\", 7 \"jacket\"") != std::string::npos);
+  for (const char* bad : {"0", "1.5", "\"\""}) {
+    const auto error = thrownBy([&] {
+      loadScene(writeScene("two_bad.toml", head + body("core", "steel_4340", bad)), {}, library());
+    });
+    REQUIRE(error);
+    CHECK(error->line() == 13);
+    CHECK(std::string(error->what()).find("'physical' must be a physical volume's name") !=
+          std::string::npos);
+  }
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
