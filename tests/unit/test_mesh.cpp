@@ -423,18 +423,20 @@ TEST_CASE("readMsh takes one physical volume of a mesh with several, by name or 
   }
   std::filesystem::remove(path);
 
-  // 4.1: the cube's one volume (entity 1, line 32) given the physical tag 9, named "cube".
+  // 4.1: the cube's one volume (entity 1, line 32) given the physical tags 9, named "cube",
+  // and 4 (in two groups at once, as Gmsh allows).
   auto v41 = cubeV41Lines();
   REQUIRE(v41.at(31).rfind("1 ", 0) == 0);
   REQUIRE(v41.at(31).find(" 0 6 1 2 3 4 5 6") != std::string::npos);
-  v41.at(31).replace(v41.at(31).find(" 0 6 1 2 3 4 5 6"), 16, " 1 9 6 1 2 3 4 5 6");
+  v41.at(31).replace(v41.at(31).find(" 0 6 1 2 3 4 5 6"), 16, " 2 9 4 6 1 2 3 4 5 6");
   v41.insert(v41.begin() + 3, {"$PhysicalNames", "1", "3 9 \"cube\"", "$EndPhysicalNames"});
   const std::string p41 = writeTemp("groups41.msh", joinLines(v41));
   CHECK(readMsh(p41, 1e-3, {"cube"}).tets.size() == 100);
   CHECK(readMsh(p41, 1e-3, {"", 9}).tets.size() == 100);
+  CHECK(readMsh(p41, 1e-3, {"", 4}).tets.size() == 100);
   CHECK_THROWS_WITH(readMsh(p41, 1e-3, {"core"}),
                     Catch::Matchers::Contains("no tetrahedra in the physical volume \"core\"; "
-                                              "the mesh's physical volumes: 9 \"cube\""));
+                                              "the mesh's physical volumes: 4, 9 \"cube\""));
   std::filesystem::remove(p41);
 }
 
