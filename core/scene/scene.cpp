@@ -484,6 +484,7 @@ void readBoundary(const toml::table& t, const std::string& file, Scene& sc,
   if (type == "fixed") {
     allowKeys(t, file, {"type", "body", "where", "min", "max"}, "fixed boundary");
     FixedBoundary f;
+    f.line = static_cast<int>(t.source().begin.line);
     f.body = string(t, "body", file);
     if (!body_names.count(f.body))
       fail(file, where(t, "body"), "no body named '" + f.body + "'");

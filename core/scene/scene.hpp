@@ -36,6 +36,7 @@ struct FixedBoundary {
   std::string body;       ///< body name
   std::string where;      ///< "rim" (plate edges) or "box"
   Vec3 box_min = Vec3::Zero(), box_max = Vec3::Zero();  ///< global coordinates, for "box"
+  int line = 0;           ///< of its [[boundary]] table in the scene
 };
 
 /// The names [output].fields takes: the element series' cell and point arrays.

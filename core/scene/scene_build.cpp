@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <ostream>
 
 namespace fesph {
@@ -138,6 +139,41 @@ void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh, doub
   log << sc.path << ":" << b.line << ": " << what;
 }
 
+// A box in the wrong place (a typo, mm for m) held nothing and the plate flew off: a fixed
+// boundary that holds no node is refused, naming where the body is; the log gives the count.
+// Nodes of `body` held in every direction.
+std::size_t heldNodes(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  std::size_t held = 0;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) held += model.nodes.fix[a] == 0b111;
+  return held;
+}
+
+// `before`: the body's held nodes before this boundary.
+void checkHeld(const Scene& sc, const Model& model, const FixedBoundary& f, int body,
+               std::size_t before, std::ostream* log) {
+  const Body& b = model.bodies[body];
+  const std::size_t held = heldNodes(model, body) - before;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+    lo = lo.cwiseMin(model.nodes.x[a]);
+    hi = hi.cwiseMax(model.nodes.x[a]);
+  }
+  if (held == 0) {
+    char what[400];
+    const Vec3 l = 1e3 * f.box_min, h = 1e3 * f.box_max, bl = 1e3 * lo, bh = 1e3 * hi;
+    std::snprintf(what, sizeof what,
+                  "the fixed box from (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g) mm holds no node "
+                  "of body '%s', which spans (%.6g, %.6g, %.6g) to (%.6g, %.6g, %.6g) mm (min "
+                  "and max are in m)",
+                  l.x(), l.y(), l.z(), h.x(), h.y(), h.z(), f.body.c_str(), bl.x(), bl.y(),
+                  bl.z(), bh.x(), bh.y(), bh.z());
+    throw InputError(sc.path, f.line, 0, what);
+  }
+  if (log)
+    *log << "  fixed (" << f.where << "): " << held << " nodes of '" << f.body << "' held\n";
+}
+
 }  // namespace
 
 void addSymmetryPlane(Model& model, const SymmetryPlane& s) {
@@ -174,12 +210,16 @@ Model buildModel(const Scene& sc, std::ostream* log) {
                      [&](const SceneBody& b) { return b.name == f.body; }) -
         sc.bodies.begin());
     const Body& b = model.bodies[body];
+    // A fixed boundary holds nodes: a body made of particles has none to hold.
+    if (sc.bodies[body].discretisation == Discretisation::Sph)
+      throw InputError(sc.path, f.line, 0,
+                       "a fixed boundary holds nodes of elements, and body '" + f.body +
+                           "' is made of particles (discretisation = \"sph\"): it has none");
+    const std::size_t before = heldNodes(model, body);
     if (f.where == "rim") {
       const auto* p = std::get_if<PlateSpec>(&sc.bodies[body].shape);
-      if (p && sc.bodies[body].discretisation == Discretisation::Fem)
-        fixPlateRim(model, body, meshes[body], *p);
-      else
-        throw InputError(sc.path, 0, 0, "'where = \"rim\"' needs a plate of elements: " + f.body);
+      if (!p) throw InputError(sc.path, f.line, 0, "'where = \"rim\"' needs a plate: " + f.body);
+      fixPlateRim(model, body, meshes[body], *p);
     } else {
       for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
         const Vec3& x = model.nodes.x[a];
@@ -187,6 +227,7 @@ Model buildModel(const Scene& sc, std::ostream* log) {
           model.nodes.fix[a] = 0b111;
       }
     }
+    checkHeld(sc, model, f, body, before, log);
   }
   for (const SymmetryPlane& s : sc.symmetry) {
     checkOneSide(sc, model, s);

@@ -661,6 +661,54 @@ std::string loadError(const std::string& name, const std::string& text,
 
 }  // namespace
 
+TEST_CASE("a fixed boundary that holds no node is refused at its line, and the log counts them",
+          "[unit][scene]") {
+  // The box given in the plate's own frame (z = +-1 mm) where the plate lies at z = -5 to
+  // -7 mm held nothing: the plate flew off, its "fixed" edge and all, without a word.
+  const std::string box = "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"box\"\n"
+                          "min = [-10e-3, -15e-3, -1e-3]\nmax = [10e-3, 15e-3, 1e-3]\n";
+  const std::string missed = writeScene("fixed_missed.toml", kBarAndPlate + box);
+  const auto error = thrownBy([&] { buildModel(loadScene(missed, {}, library())); });
+  REQUIRE(error);
+  INFO(error->what());
+  CHECK(error->file() == missed);
+  CHECK(error->line() == 23);  // its [[boundary]]
+  CHECK(error->message() ==
+        "the fixed box from (-10, -15, -1) to (10, 15, 1) mm holds no node of body 'plate', "
+        "which spans (-10, -15, -7) to (10, 15, -5) mm (min and max are in m)");
+  // so also after a rim hold of the same plate: the box's own nodes count
+  const std::string rim = "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"rim\"\n";
+  const std::string rim_then_box = writeScene("fixed_rim_missed.toml", kBarAndPlate + rim + box);
+  const auto after_rim = thrownBy([&] { buildModel(loadScene(rim_then_box, {}, library())); });
+  REQUIRE(after_rim);
+  CHECK(after_rim->line() == 27);
+  // In the global frame it holds the plate's nodes through its thickness at x >= 8 mm, which
+  // the log counts.
+  std::ostringstream log;
+  const Model m = buildModel(
+      loadScene(writeScene("fixed_held.toml",
+                           kBarAndPlate + "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\n"
+                                          "where = \"box\"\nmin = [8e-3, -15e-3, -7e-3]\n"
+                                          "max = [10e-3, 15e-3, -5e-3]\n"),
+                {}, library()),
+      &log);
+  std::size_t held = 0;
+  for (std::size_t a = m.bodies[1].node_begin; a < m.bodies[1].node_end; ++a)
+    held += m.nodes.fix[a] == 0b111;
+  REQUIRE(held > 0);
+  CHECK(log.str().find("  fixed (box): " + std::to_string(held) + " nodes of 'plate' held\n") !=
+        std::string::npos);
+  // A body made of particles has no nodes to hold.
+  const std::string sph = writeScene(
+      "fixed_sph.toml", replace(kBarAndPlate, "name = \"plate\"\n",
+                                "name = \"plate\"\ndiscretisation = \"sph\"\n") +
+                            "[[boundary]]\ntype = \"fixed\"\nbody = \"plate\"\nwhere = \"rim\"\n");
+  const auto particles = thrownBy([&] { buildModel(loadScene(sph, {}, library())); });
+  REQUIRE(particles);
+  CHECK(particles->line() == 24);
+  CHECK(particles->message().find("body 'plate' is made of particles") != std::string::npos);
+}
+
 TEST_CASE("[reference] needs one positive velocity per plate", "[unit][scene]") {
   const std::string& base = kBarAndPlate;
   const Scene ok = loadScene(writeScene("ref_ok.toml", base + "[reference]\nexperiment = [900.5]\n"
