@@ -48,9 +48,11 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
   o.field = field;
   fs::create_directories(out_dir);
   const std::vector<PlateImages> plates = renderPlateImages(run_dir, time, o, out_dir);
-  if (!plates.empty())
-    std::printf("%s", nearestOutputNote(time, plates.front().time, "drawn").c_str());
-  else  // the section, velocity plot and debris table are drawn all the same
+  // the output step drawn (with no plate drawn, the step the rest is drawn of)
+  const double drawn =
+      plates.empty() ? render_detail::readRunStep(run_dir, time).time : plates.front().time;
+  std::printf("%s", nearestOutputNote(time, drawn, "drawn").c_str());
+  if (plates.empty())  // the section, velocity plot and debris table are drawn all the same
     std::printf("  plates: none drawn, as no body but a projectile has elements there (plate "
                 "images and holes are drawn from a plate's elements: a plate made of particles "
                 "has none)\n");
@@ -66,9 +68,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
                                  "", out_dir + "/velocity.png", o)
                   .c_str());
   writeHolesCsv(out_dir + "/holes.csv", holes);
-  writeHolesJson(out_dir + "/holes.json", holes, field,
-                 plates.empty() ? time : plates.front().time);
-  const DebrisSummary debris = writeDebrisTable(run_dir, plates, out_dir);
+  writeHolesJson(out_dir + "/holes.json", holes, field, drawn);
+  const DebrisSummary debris = writeDebrisTable(run_dir, drawn, plates, out_dir);
   std::printf("  debris: %s/debris.csv (%zu clump%s of free particles, %zu would strike a "
               "plate)\n",
               out_dir.c_str(), debris.clumps, debris.clumps == 1 ? "" : "s", debris.strikes);

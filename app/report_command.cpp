@@ -225,7 +225,7 @@ void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
     return energy(*a) > energy(*b);
   });
   md << "\nDebris at t = " << clumps.front().at("time_s") << " s: " << clumps.size()
-     << " clumps of two or more free particles (linked within 1.5 times the sum of their "
+     << (clumps.size() == 1 ? " clump" : " clumps") << " of two or more free particles (linked within 1.5 times the sum of their "
         "radii), " << striking.size() << " of them on a straight course to a plate of another "
         "body (debris.csv)";
   if (striking.empty()) {
@@ -417,11 +417,17 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
         "through-holes are outlined and measured from the geometry (holes.csv).\n";
   for (std::size_t i = 0; i < runs.size(); ++i) {
     md << "\n### " << runs[i].label << "\n\n";
-    for (const std::string& png : plateImages(runs[i], out, static_cast<int>(i + 1)))
+    bool plates_drawn = false;
+    for (const std::string& png : plateImages(runs[i], out, static_cast<int>(i + 1))) {
       md << "![" << fs::path(png).stem().string() << "](" << png << ")\n";
+      plates_drawn = plates_drawn || png.find("_front.png") != std::string::npos;
+    }
     const fs::path copied = out / ("run" + std::to_string(i + 1));
     const auto holes = readCsv(copied / "holes.csv");
-    if (holes.empty())
+    if (!plates_drawn)
+      md << "\nNo plate images: no plate of this run has elements (plate images and holes are "
+            "drawn from a plate's elements; a plate made of particles has none).\n";
+    else if (holes.empty())
       md << "\nNo through-holes.\n";
     else
       md << "\n| plate | hole | area (mm^2) | equivalent diameter (mm) | centre x, y, z (mm) "

@@ -60,9 +60,8 @@ std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images) {
   return plates;
 }
 
-DebrisSummary writeDebrisTable(const std::string& run_dir, const std::vector<PlateImages>& images,
-                               const std::string& out_dir) {
-  const double time = images.empty() ? -1.0 : images.front().time;
+DebrisSummary writeDebrisTable(const std::string& run_dir, double time,
+                               const std::vector<PlateImages>& images, const std::string& out_dir) {
   const RunInfo info = readRunInfo(run_dir);
   DebrisOptions options;
   options.half = info.half;

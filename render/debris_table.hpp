@@ -19,9 +19,9 @@ std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time);
 /// The plates of `images` as targets (their front faces and extents at the images' time).
 std::vector<TargetPlate> targetPlates(const std::vector<PlateImages>& images);
 
-/// Writes OUT_DIR/debris.csv for the step the plate images show (writeDebrisCsv). Throws
-/// RunError.
-DebrisSummary writeDebrisTable(const std::string& run_dir, const std::vector<PlateImages>& images,
-                               const std::string& out_dir);
+/// Writes OUT_DIR/debris.csv for the output step at `time` (the one the plate images show;
+/// their plates are the targets), writeDebrisCsv. Throws RunError.
+DebrisSummary writeDebrisTable(const std::string& run_dir, double time,
+                               const std::vector<PlateImages>& images, const std::string& out_dir);
 
 }  // namespace fesph

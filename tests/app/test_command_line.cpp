@@ -788,6 +788,24 @@ TEST_CASE("a plate made of particles: the run draws what it can and says what it
   CHECK(fs::exists(dir.path / "run" / "images" / "velocity.png"));
   CHECK(fs::exists(dir.path / "run" / "images" / "debris.csv"));
   CHECK(has(run.out, "(1 clump of free particles, 0 would strike a plate)"));  // the plate
+  // The tables are of the step drawn (they said t = -1 s, the "last" they were asked for),
+  // also at a time asked for.
+  CHECK(slurp(dir.path / "run" / "images" / "debris.csv").find("\n1e-06,plate,1,") !=
+        std::string::npos);
+  CHECK(has(slurp(dir.path / "run" / "images" / "holes.json"), "\"time_s\": 1e-06"));
+  const Result at_start = command("render run --time 0 --size 64x64", dir.path);
+  INFO(at_start.out);
+  CHECK(at_start.code == 0);
+  CHECK(slurp(dir.path / "run" / "images" / "t_0" / "debris.csv").find("\n0,plate,1,") !=
+        std::string::npos);
+  // The report says why the run has no plate images, not "No through-holes".
+  const Result report = command("report run --out report", dir.path);
+  INFO(report.out);
+  REQUIRE(report.code == 0);
+  const std::string md = slurp(dir.path / "report" / "report.md");
+  CHECK(has(md, "No plate images: no plate of this run has elements"));
+  CHECK(!has(md, "No through-holes"));
+  CHECK(has(md, ": 1 clump of two or more free particles"));
   // fesph compare measures the plate's holes from its elements: it names the plate and why.
   {
     std::ofstream photo(dir.path / "photo.pgm", std::ios::binary);  // a dark disc, r = 20 px

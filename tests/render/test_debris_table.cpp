@@ -60,7 +60,8 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
   CHECK(plates[0].half_v == Approx(20 * mm).epsilon(1e-9));
   CHECK((plates[0].centre - Vec3(0, 0, -1 * mm)).norm() < 1e-9);  // on the mid-plane
 
-  const DebrisSummary s = writeDebrisTable(dir.path.string(), images, (dir.path / "images").string());
+  const DebrisSummary s =
+      writeDebrisTable(dir.path.string(), images[0].time, images, (dir.path / "images").string());
   CHECK(s.clumps == 1);
   CHECK(s.strikes == 1);
   std::ifstream in(dir.path / "images" / "debris.csv");
