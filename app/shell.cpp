@@ -587,21 +587,40 @@ void Workbench::meshInfo(const std::vector<std::string>& a) {
   if (a.size() != 1 || a[0] != "info") throw UsageError("usage: mesh info");
   const RunSession& s = session();
   const Model& m = s.model();
-  std::printf("%-14s %-10s %-9s %9s %9s %11s  %s\n", "body", "material", "kind", "elements",
-              "nodes", "mass (kg)", "extent x, y, z (mm)");
+  const auto materialOf = [&](const Body& body) {
+    return s.scene().material_ids.at(static_cast<std::size_t>(body.material));
+  };
+  // columns as wide as their longest entry (a material id such as OFHC_copper)
+  int name_width = 14, material_width = 10;
+  for (const Body& body : m.bodies) {
+    name_width = std::max(name_width, static_cast<int>(body.name.size()));
+    material_width = std::max(material_width, static_cast<int>(materialOf(body).size()));
+  }
+  std::printf("%-*s %-*s %-10s %9s %9s %11s  %s\n", name_width, "body", material_width,
+              "material", "kind", "elements", "nodes", "mass (kg)", "extent x, y, z (mm)");
   for (std::size_t b = 0; b < m.bodies.size(); ++b) {
     const Body& body = m.bodies[b];
+    // its nodes, or its particles for a body made of them
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     for (std::size_t n = body.node_begin; n < body.node_end; ++n) {
       lo = lo.cwiseMin(m.nodes.x[n]);
       hi = hi.cwiseMax(m.nodes.x[n]);
     }
-    const Vec3 size = body.node_end > body.node_begin ? Vec3(hi - lo) : Vec3::Zero();
-    std::printf("%-14s %-10s %-9s %9zu %9zu %11.5g  %.2f x %.2f x %.2f\n", body.name.c_str(),
-                s.scene().material_ids.at(static_cast<std::size_t>(body.material)).c_str(),
-                body.is_projectile ? "projectile" : (body.discretisation == Discretisation::Sph ? "particles" : "target"),
+    if (body.discretisation == Discretisation::Sph)
+      for (std::size_t i = 0; i < m.particles.size(); ++i)
+        if (m.particles.body[i] == static_cast<int>(b)) {
+          lo = lo.cwiseMin(m.particles.x[i]);
+          hi = hi.cwiseMax(m.particles.x[i]);
+        }
+    const Vec3 size = lo.x() <= hi.x() ? Vec3(hi - lo) : Vec3::Zero();
+    const char* kind = body.is_projectile                               ? "projectile"
+                       : body.discretisation == Discretisation::Sph ? "particles"
+                                                                    : "target";
+    std::printf("%-*s %-*s %-10s %9zu %9zu %11.5g  %.2f x %.2f x %.2f%s\n", name_width,
+                body.name.c_str(), material_width, materialOf(body).c_str(), kind,
                 body.elem_end - body.elem_begin, body.node_end - body.node_begin,
-                bodyMass(m, static_cast<int>(b)), size.x() * 1e3, size.y() * 1e3, size.z() * 1e3);
+                bodyMass(m, static_cast<int>(b)), size.x() * 1e3, size.y() * 1e3, size.z() * 1e3,
+                body.discretisation == Discretisation::Sph ? " (its particles' centres)" : "");
   }
   std::printf("total: %zu elements, %zu nodes, %zu particles%s\n", m.elems.size(), m.nodes.size(),
               m.particles.size(), s.scene().half ? "; half model (symmetry plane y = 0)" : "");

@@ -35,7 +35,8 @@ TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
   } catch (const InputError& e) {
     // A physical volume the file lacks is the scene's mistake: said at the body's table.
     if (e.line() != 0 || m.volume.all()) throw;
-    throw InputError(scene_path, b.line, 0, "body '" + b.name + "': " + e.what());
+    throw InputError(scene_path, b.line, 0, "body '" + b.name + "': " + e.file() + ": " +
+                                                e.message());
   }
 }
 

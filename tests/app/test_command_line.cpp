@@ -819,10 +819,26 @@ TEST_CASE("a plate made of particles: the run draws what it can and says what it
   CHECK(compared.code == 1);
   CHECK(has(compared.out, "run: plate 'plate' has no live element at t = 1e-06 s: its holes are "
                           "measured from its elements (a plate made of particles has none)"));
-  // The shell, asked for the plate's images, says why there are none.
-  std::ofstream(dir.path / "script") << "load scene.toml\nrender plate 1\n";
+  // The shell, asked for the plate's images, says why there are none. Its mesh info gives
+  // the plate's extent by its particles (it gave 0 x 0 x 0: a body of particles has no
+  // nodes), and its columns stay aligned under a material id longer than their width.
+  std::ofstream(dir.path / "script")
+      << "load scene.toml\nrender plate 1\nset bodies.projectile.material=\"OFHC_copper\"\n"
+         "mesh info\n";
   const Result shell = command("shell < script", dir.path);
   INFO(shell.out);
+  std::istringstream lines(shell.out);
+  std::string header, projectile, plate_row;
+  for (std::string l; std::getline(lines, l);) {
+    if (l.rfind("body ", 0) == 0) header = l;
+    if (l.rfind("projectile ", 0) == 0) projectile = l;
+    if (l.rfind("plate ", 0) == 0) plate_row = l;
+  }
+  REQUIRE(!header.empty());
+  CHECK(header.find("kind") == projectile.find("projectile", 1));
+  CHECK(has(plate_row, " particles "));
+  CHECK(has(plate_row, " (its particles' centres)"));
+  CHECK(!has(plate_row, "0.00 x 0.00 x 0.00"));
   CHECK(has(shell.out, "plate 'plate' has no elements at t = 0 s: plate images are drawn from "
                        "a plate's elements"));
 }

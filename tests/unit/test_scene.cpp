@@ -469,6 +469,7 @@ TEST_CASE("two bodies of one .msh: each its physical volume, of its own material
   CHECK(missing->file() == lacks);
   CHECK(missing->line() == 4);
   CHECK(std::string(missing->what()).find("body 'core': ") != std::string::npos);
+  CHECK(missing->message().find("error") == std::string::npos);  // the file's message, once
   CHECK(std::string(missing->what())
             .find("no tetrahedra in the physical volume \"cor\"; the mesh's physical volumes: 5 "
                   "\"core\", 7 \"jacket\"") != std::string::npos);
