@@ -202,7 +202,8 @@ int compareCommand(const CompareCommandOptions& opt) {
     const std::string& name = info.bodies[body].name;
     const GrayImage photo = readPhoto(opt.image);
     double time = 0;
-    const SimulatedPlate plate = readSimulatedPlate(opt.run_dir, opt.time, body, name, info.half, &time);
+    const SimulatedPlate plate =
+        readSimulatedPlate(opt.run_dir, opt.time, body, name, info.half, &time);
     const PhotoSegmentation seg = segmentHoles(photo, so);
     // What is compared first, so that a comparison that cannot be made says of what.
     std::printf("fesph compare: plate '%s' at t = %.3f us against %s (%d x %d px, %.4g mm/px, %s face)\n",

@@ -225,9 +225,10 @@ void debrisRows(const std::vector<CsvRow>& clumps, std::ostringstream& md) {
     return energy(*a) > energy(*b);
   });
   md << "\nDebris at t = " << clumps.front().at("time_s") << " s: " << clumps.size()
-     << (clumps.size() == 1 ? " clump" : " clumps") << " of two or more free particles (linked within 1.5 times the sum of their "
-        "radii), " << striking.size() << " of them on a straight course to a plate of another "
-        "body (debris.csv)";
+     << (clumps.size() == 1 ? " clump" : " clumps")
+     << " of two or more free particles (linked within 1.5 times the sum of their radii), "
+     << striking.size() << " of them on a straight course to a plate of another body "
+        "(debris.csv)";
   if (striking.empty()) {
     md << ".\n";
     return;
@@ -334,10 +335,10 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   md << "\n## What of the projectile got through each plate\n\n"
      << "At the instant v_k is taken: the largest intact piece (its speed is v_k) and all the "
         "projectile's material past the plate's rear face (live elements and the particles born "
-        "from its elements, or the particles it is made of), each with its share of the projectile's initial mass; the second "
-        "velocity is that material's momentum over its mass, with its error against the "
-        "experiment's v_k. Where the projectile breaks up, its intact rear goes on faster than "
-        "the material the plate slowed.\n\n"
+        "from its elements, or the particles it is made of), each with its share of the "
+        "projectile's initial mass; the second velocity is that material's momentum over its "
+        "mass, with its error against the experiment's v_k. Where the projectile breaks up, "
+        "its intact rear goes on faster than the material the plate slowed.\n\n"
      << "| plate | run | intact piece | its mass | all material through | error | its mass |\n"
         "|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < plates; ++k)

@@ -13,8 +13,9 @@
 //
 // Beside it, at the same instant, what of the projectile got through plate k: the mass and the
 // mass-weighted velocity of all its material (the live nodes' lumped masses and the particles
-// born from its elements, or the particles it is made of) deeper than the plate's rear face. The intact piece says how fast the
-// projectile goes on; this says how much momentum the plate took from the projectile's mass.
+// born from its elements, or the particles it is made of) deeper than the plate's rear face.
+// The intact piece says how fast the projectile goes on; this says how much momentum the
+// plate took from the projectile's mass.
 // When the projectile breaks up the two differ: its converted nose and debris travel slower
 // than its intact rear.
 //

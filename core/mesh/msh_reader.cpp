@@ -228,7 +228,8 @@ void readElementsV2(MshLines& in, RawMesh& mesh) {
     const long long num_tags = in.count(2, "the number of element tags");
     const long long type = in.integer(1, "an element type");
     // the first tag is the physical group (Gmsh writes 0 for none)
-    const long long physical = num_tags > 0 && in.size() > 3 ? in.integer(3, "a physical tag") : 0;
+    const long long physical =
+        num_tags > 0 && in.size() > 3 ? in.integer(3, "a physical tag") : 0;
     if (type == kLinearTet) addTet(in, mesh, tag, 3 + num_tags, physical);
     else if (!volumeElementName(type).empty()) otherVolumeElement(in, tag, type);
   }
@@ -275,14 +276,16 @@ void readPhysicalNames(MshLines& in, RawMesh& mesh) {
 /// numPhysicalTags tags... numBoundingSurfaces tags..."); points, curves, surfaces skipped.
 void readEntitiesV41(MshLines& in, RawMesh& mesh) {
   in.next(4, "numPoints numCurves numSurfaces numVolumes");
-  const long long skip = in.count(0, "the number of points") + in.count(1, "the number of curves") +
+  const long long skip = in.count(0, "the number of points") +
+                         in.count(1, "the number of curves") +
                          in.count(2, "the number of surfaces");
   const long long volumes = in.count(3, "the number of volumes");
   for (long long i = 0; i < skip; ++i) in.next(1, "an entity");
   for (long long i = 0; i < volumes; ++i) {
     in.next(8, "a volume: tag minX minY minZ maxX maxY maxZ numPhysicalTags tags...");
     const long long n = in.count(7, "the number of physical tags");
-    if (in.size() < static_cast<std::size_t>(8 + n)) in.fail("expected " + std::to_string(n) + " physical tags");
+    if (in.size() < static_cast<std::size_t>(8 + n))
+      in.fail("expected " + std::to_string(n) + " physical tags");
     std::vector<long long>& tags = mesh.volume_physicals[in.integer(0, "a volume tag")];
     for (long long k = 0; k < n; ++k) tags.push_back(in.integer(8 + k, "a physical tag"));
   }
@@ -352,7 +355,8 @@ std::string physicalVolumes(const RawMesh& raw) {
   for (const RawTet& t : raw.tets) {
     if (!raw.groups_are_entities) {
       if (t.group != 0) tags.insert(t.group);
-    } else if (const auto it = raw.volume_physicals.find(t.group); it != raw.volume_physicals.end()) {
+    } else if (const auto it = raw.volume_physicals.find(t.group);
+               it != raw.volume_physicals.end()) {
       tags.insert(it->second.begin(), it->second.end());
     }
   }
@@ -369,12 +373,12 @@ std::string physicalVolumes(const RawMesh& raw) {
 void selectVolume(const std::string& path, RawMesh& raw, const MshVolume& volume) {
   if (volume.all()) return;
   long long tag = volume.tag;
-  if (!volume.name.empty()) {
-    tag = 0;
-    for (const auto& [t, name] : raw.volume_names)
-      if (name == volume.name) tag = t;
-  }
+  for (const auto& [t, name] : raw.volume_names)
+    if (!volume.name.empty() && name == volume.name) tag = t;
+  // (a name no volume has leaves tag 0, which no tet's physical group is: untagged 2.2
+  // tets have 0 as their group, hence the check)
   const auto inVolume = [&](const RawTet& t) {
+    if (tag == 0) return false;
     if (!raw.groups_are_entities) return t.group == tag;
     const auto it = raw.volume_physicals.find(t.group);
     return it != raw.volume_physicals.end() &&

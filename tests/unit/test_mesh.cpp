@@ -422,6 +422,11 @@ TEST_CASE("readMsh takes one physical volume of a mesh with several, by name or 
     }
   }
   std::filesystem::remove(path);
+  // Tets of no physical group (2.2 writes 0 for it) are in no volume a name asks for.
+  const std::string untagged = writeTemp("untagged.msh", joinLines(kSmallMsh22));
+  CHECK_THROWS_WITH(readMsh(untagged, 1.0, {"core"}),
+                    Catch::Matchers::Contains("the mesh's physical volumes: none"));
+  std::filesystem::remove(untagged);
 
   // 4.1: the cube's one volume (entity 1, line 32) given the physical tags 9, named "cube",
   // and 4 (in two groups at once, as Gmsh allows).

@@ -286,7 +286,8 @@ TEST_CASE("fesph report lists the debris on course for a plate", "[unit][report]
   for (std::string l; std::getline(csv, l);) ++clumps;
   REQUIRE(clumps > 0);
   CHECK(read(tmp.path / "rep" / "report.md")
-            .find(": " + std::to_string(clumps) + " clumps of two or more free particles") !=
+            .find(": " + std::to_string(clumps) + (clumps == 1 ? " clump" : " clumps") +
+                  " of two or more free particles") !=
         std::string::npos);
 
   const std::string written = read(dir / "images" / "debris.csv");
