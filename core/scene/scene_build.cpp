@@ -140,8 +140,6 @@ void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh, doub
   log << sc.path << ":" << b.line << ": " << what;
 }
 
-// A box in the wrong place (a typo, mm for m) held nothing and the plate flew off: a fixed
-// boundary that holds no node is refused, naming where the body is; the log gives the count.
 // Nodes of `body` held in every direction.
 std::size_t heldNodes(const Model& model, int body) {
   const Body& b = model.bodies[body];
@@ -150,6 +148,8 @@ std::size_t heldNodes(const Model& model, int body) {
   return held;
 }
 
+// A box in the wrong place (a typo, mm for m) held nothing and the plate flew off: a fixed
+// boundary that holds no node is refused, naming where the body is; the log gives the count.
 // `before`: the body's held nodes before this boundary.
 void checkHeld(const Scene& sc, const Model& model, const FixedBoundary& f, int body,
                std::size_t before, std::ostream* log) {
