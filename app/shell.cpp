@@ -416,6 +416,10 @@ std::string Workbench::runFolder() const {
   return options_.out.empty() ? s.output.folder : options_.out;
 }
 
+bool Workbench::nothingRunYet() const {
+  return !scene_path_.empty() && !(session_ && session_->outputStarted());
+}
+
 RunSession& Workbench::session() {
   if (scene_path_.empty())
     throw UsageError(run_dir_.empty() ? "no scene loaded: `load SCENE.toml` first"
@@ -600,18 +604,7 @@ void Workbench::meshInfo(const std::vector<std::string>& a) {
               "material", "kind", "elements", "nodes", "mass (kg)", "extent x, y, z (mm)");
   for (std::size_t b = 0; b < m.bodies.size(); ++b) {
     const Body& body = m.bodies[b];
-    // its nodes, or its particles for a body made of them
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    for (std::size_t n = body.node_begin; n < body.node_end; ++n) {
-      lo = lo.cwiseMin(m.nodes.x[n]);
-      hi = hi.cwiseMax(m.nodes.x[n]);
-    }
-    if (body.discretisation == Discretisation::Sph)
-      for (std::size_t i = 0; i < m.particles.size(); ++i)
-        if (m.particles.body[i] == static_cast<int>(b)) {
-          lo = lo.cwiseMin(m.particles.x[i]);
-          hi = hi.cwiseMax(m.particles.x[i]);
-        }
+    const auto [lo, hi] = bodyExtent(m, static_cast<int>(b));
     const Vec3 size = lo.x() <= hi.x() ? Vec3(hi - lo) : Vec3::Zero();
     const char* kind = body.is_projectile                               ? "projectile"
                        : body.discretisation == Discretisation::Sph ? "particles"
@@ -761,8 +754,7 @@ void Workbench::compare(const std::vector<std::string>& a) {
 void Workbench::plot(const std::vector<std::string>& a) {
   if (a.size() != 1 || a[0] != "velocity") throw UsageError("usage: plot velocity");
   const fs::path folder = runFolder();
-  if (!scene_path_.empty() && !(session_ && session_->outputStarted()))
-    throw UsageError("nothing has run yet: `run` or `step` first");
+  if (nothingRunYet()) throw UsageError("nothing has run yet: `run` or `step` first");
   const std::string png = (folder / "shell" / "velocity.png").string();
   fs::create_directories(folder / "shell");
   std::printf("%s\n", renderVelocityPlot({{folder.filename().string(), (folder / "history.csv").string()}},
@@ -942,8 +934,7 @@ void Workbench::report(const std::vector<std::string>& a) {
       o.run_dirs.push_back(a[k]);
   }
   if (o.run_dirs.empty()) {
-    // the folder holds an earlier run until this one writes
-    if (!scene_path_.empty() && !(session_ && session_->outputStarted()))
+    if (nothingRunYet())
       throw UsageError("nothing has run yet: `run` or `step` first, or give RUN_DIR");
     o.run_dirs.push_back(runFolder());
   }

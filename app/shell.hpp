@@ -76,6 +76,8 @@ class Workbench {
   std::string currentState(RunInfo& info, double& time);
   /// Folder of the current run (scene mode) or the loaded run folder.
   std::string runFolder() const;
+  /// A scene is loaded and its run has written nothing yet: the folder holds an earlier run.
+  bool nothingRunYet() const;
   /// Scene keys (dotted, arrays by index) of the current scene text, sorted.
   std::vector<std::string> sceneKeys() const;
 

@@ -359,7 +359,7 @@ void SeriesWriter::writeParticles(const Model& model, double time) {
     for (vtkIdType i = 0; i < n; ++i) a->SetValue(i, value(i));
     pd->AddArray(a);
   };
-  scalar("radius", [&](vtkIdType i) { return 0.5 * std::cbrt(pa.V[i]); });
+  scalar("radius", [&](vtkIdType i) { return particleRadius(pa, static_cast<std::size_t>(i)); });
   scalar("mass", [&](vtkIdType i) { return pa.m[i]; });
   scalar("density", [&](vtkIdType i) { return pa.rho[i]; });
   scalar("plastic_strain", [&](vtkIdType i) { return pa.state[i].eps_p; });

@@ -6,7 +6,6 @@
 #include "core/state/model_build.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 
 namespace fesph {
@@ -23,8 +22,7 @@ std::vector<Piece> particlePieces(const Model& model, int body) {
   for (std::size_t i = 0; i < pa.size(); ++i) {
     if (pa.body[i] != body) continue;
     ids.push_back(static_cast<int>(i));
-    // the radius the particle series gives ParaView and the debris table
-    list.push_back({pa.x[i], pa.v[i], pa.m[i], 0.5 * std::cbrt(pa.V[i]), 0.0, body});
+    list.push_back({pa.x[i], pa.v[i], pa.m[i], particleRadius(pa, i), 0.0, body});
   }
   std::vector<Piece> pieces;
   for (const Clump& c : findClumps(list)) {  // largest mass first

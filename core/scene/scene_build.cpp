@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <ostream>
 
 namespace fesph {
@@ -153,14 +152,9 @@ std::size_t heldNodes(const Model& model, int body) {
 // `before`: the body's held nodes before this boundary.
 void checkHeld(const Scene& sc, const Model& model, const FixedBoundary& f, int body,
                std::size_t before, std::ostream* log) {
-  const Body& b = model.bodies[body];
   const std::size_t held = heldNodes(model, body) - before;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
-    lo = lo.cwiseMin(model.nodes.x[a]);
-    hi = hi.cwiseMax(model.nodes.x[a]);
-  }
   if (held == 0) {
+    const auto [lo, hi] = bodyExtent(model, body);
     char what[400];
     const Vec3 l = 1e3 * f.box_min, h = 1e3 * f.box_max, bl = 1e3 * lo, bh = 1e3 * hi;
     std::snprintf(what, sizeof what,

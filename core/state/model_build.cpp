@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace fesph {
@@ -209,6 +210,22 @@ double bodyMass(const Model& model, int body) {
   for (std::size_t i = 0; i < pa.size(); ++i)
     if (pa.body[i] == body) m += pa.m[i];
   return m;
+}
+
+std::pair<Vec3, Vec3> bodyExtent(const Model& model, int body) {
+  const Body& b = model.bodies[body];
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (std::size_t a = b.node_begin; a < b.node_end; ++a) {
+    lo = lo.cwiseMin(model.nodes.x[a]);
+    hi = hi.cwiseMax(model.nodes.x[a]);
+  }
+  if (b.discretisation == Discretisation::Sph)
+    for (std::size_t i = 0; i < model.particles.size(); ++i)
+      if (model.particles.body[i] == body) {
+        lo = lo.cwiseMin(model.particles.x[i]);
+        hi = hi.cwiseMax(model.particles.x[i]);
+      }
+  return {lo, hi};
 }
 
 }  // namespace fesph

@@ -6,6 +6,9 @@
 #include "core/mesh/mesh.hpp"
 #include "core/state/model.hpp"
 
+#include <cmath>
+#include <utility>
+
 namespace fesph {
 
 /// Rigid placement of a body's local mesh: x = R x_local + translation.
@@ -50,5 +53,15 @@ Vec3 alongPlanes(Vec3 v, unsigned planes);
 
 /// Mass of a body's active nodes and particles, kg.
 double bodyMass(const Model& model, int body);
+
+/// Bounding box (lower, upper corner) of a body's nodes, and of its particles for a body made
+/// of them, m; lower > upper when it has neither.
+std::pair<Vec3, Vec3> bodyExtent(const Model& model, int body);
+
+/// Radius of particle i as the particle series draws it and debris clumps link it: half its
+/// spacing cbrt(V), m.
+inline double particleRadius(const Particles& pa, std::size_t i) {
+  return 0.5 * std::cbrt(pa.V[i]);
+}
 
 }  // namespace fesph

@@ -60,6 +60,15 @@ std::vector<long> historySteps(const fs::path& csv) {
   return steps;
 }
 
+/// A photograph of a plate with one hole: a dark disc of radius 20 px in a 100 px square PGM.
+void writeDiscPhoto(const fs::path& path) {
+  std::ofstream photo(path, std::ios::binary);
+  photo << "P5\n100 100\n255\n";
+  for (int j = 0; j < 100; ++j)
+    for (int i = 0; i < 100; ++i)
+      photo.put(static_cast<char>(std::hypot(i - 49.5, j - 49.5) < 20 ? 30 : 200));
+}
+
 /// `steps = N` of a run's summary.toml.
 long summarySteps(const fs::path& summary) {
   std::smatch m;
@@ -133,13 +142,7 @@ TEST_CASE("fesph run, render and compare: a scene named from its own folder, and
   CHECK(has(negative.out, "--time: expected a number >= 0, got -1"));
 
   // fesph compare takes the nearest output too: it said only "at t = 1.000 us" in its heading.
-  {
-    std::ofstream photo(dir.path / "photo.pgm", std::ios::binary);  // a dark disc, r = 20 px
-    photo << "P5\n100 100\n255\n";
-    for (int j = 0; j < 100; ++j)
-      for (int i = 0; i < 100; ++i)
-        photo.put(static_cast<char>(std::hypot(i - 49.5, j - 49.5) < 20 ? 30 : 200));
-  }
+  writeDiscPhoto(dir.path / "photo.pgm");
   const std::string compare = "compare run --image photo.pgm --mm-per-px 0.1 ";
   const Result late = command(compare + "--time 5 --center 50,50", dir.path);
   INFO(late.out);
@@ -807,13 +810,7 @@ TEST_CASE("a plate made of particles: the run draws what it can and says what it
   CHECK(!has(md, "No through-holes"));
   CHECK(has(md, ": 1 clump of two or more free particles"));
   // fesph compare measures the plate's holes from its elements: it names the plate and why.
-  {
-    std::ofstream photo(dir.path / "photo.pgm", std::ios::binary);  // a dark disc, r = 20 px
-    photo << "P5\n100 100\n255\n";
-    for (int j = 0; j < 100; ++j)
-      for (int i = 0; i < 100; ++i)
-        photo.put(static_cast<char>(std::hypot(i - 49.5, j - 49.5) < 20 ? 30 : 200));
-  }
+  writeDiscPhoto(dir.path / "photo.pgm");
   const Result compared = command("compare run --image photo.pgm --mm-per-px 0.1", dir.path);
   INFO(compared.out);
   CHECK(compared.code == 1);
