@@ -591,8 +591,16 @@ void Workbench::meshInfo(const std::vector<std::string>& a) {
   if (a.size() != 1 || a[0] != "info") throw UsageError("usage: mesh info");
   const RunSession& s = session();
   const Model& m = s.model();
-  const auto materialOf = [&](const Body& body) {
-    return s.scene().material_ids.at(static_cast<std::size_t>(body.material));
+  const auto materialOf = [&](const Body& body) {  // "steel_4340+OFHC_copper": several volumes
+    const SceneBody& sb = s.scene().bodies.at(static_cast<std::size_t>(&body - m.bodies.data()));
+    std::string ids = sb.material;
+    for (std::size_t v = 1; v < sb.volume_materials.size(); ++v) {
+      const auto& all = sb.volume_materials;
+      if (std::find(all.begin(), all.begin() + static_cast<long>(v), all[v]) ==
+          all.begin() + static_cast<long>(v))
+        ids += "+" + all[v];
+    }
+    return ids;
   };
   // columns as wide as their longest entry (a material id such as OFHC_copper)
   int name_width = 14, material_width = 10;

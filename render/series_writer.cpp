@@ -20,6 +20,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -123,6 +124,14 @@ void addTimeValue(vtkDataObject& data, double time) {
   t->SetName("TimeValue");
   t->InsertNextValue(time);
   data.GetFieldData()->AddArray(t);
+}
+
+// What the values of the "material" arrays stand for: entry k names material k.
+void addMaterialNames(vtkDataObject& data, const Model& model) {
+  vtkNew<vtkStringArray> names;
+  names->SetName("material_names");
+  for (const Material& m : model.materials) names->InsertNextValue(m.name);
+  data.GetFieldData()->AddArray(names);
 }
 
 std::string indexedName(const char* stem, std::size_t index, const char* extension) {
@@ -300,6 +309,14 @@ void SeriesWriter::write(const Model& model, double time) {
     for (vtkIdType c = 0; c < nc; ++c) a->SetValue(c, elems.body[live[c]]);
     cd->AddArray(a);
   }
+  if (wants("material")) {  // a body meshed of several volumes has several
+    vtkNew<vtkIntArray> a;
+    a->SetName("material");
+    a->SetNumberOfValues(nc);
+    for (vtkIdType c = 0; c < nc; ++c) a->SetValue(c, elems.material[live[c]]);
+    cd->AddArray(a);
+    addMaterialNames(*grid, model);
+  }
   if (wants("element_id")) {
     vtkNew<vtkTypeInt64Array> a;
     a->SetName("element_id");
@@ -375,6 +392,12 @@ void SeriesWriter::writeParticles(const Model& model, double time) {
   body->SetNumberOfValues(n);
   for (vtkIdType i = 0; i < n; ++i) body->SetValue(i, pa.body[i]);
   pd->AddArray(body);
+  vtkNew<vtkIntArray> material;
+  material->SetName("material");
+  material->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) material->SetValue(i, pa.material[i]);
+  pd->AddArray(material);
+  addMaterialNames(*poly, model);
   vtkNew<vtkTypeInt64Array> parent;
   parent->SetName("parent_element");
   parent->SetNumberOfValues(n);

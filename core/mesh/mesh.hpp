@@ -16,6 +16,9 @@ namespace fesph {
 struct TetMesh {
   std::vector<Vec3> nodes;                ///< m
   std::vector<std::array<int, 4>> tets;   ///< node ids
+  /// Per tet, which of the volumes it was read as (readMsh of several volumes: each of its
+  /// own material); empty: one volume.
+  std::vector<int> region;
 };
 
 /// Flat rectangular plate in its local frame: x in [-size_x/2, size_x/2], y in
@@ -83,6 +86,12 @@ struct MshVolume {
 /// throw InputError naming file and line; a volume that holds no tet, naming the file's
 /// physical volumes.
 TetMesh readMsh(const std::string& path, double scale = 1.0, const MshVolume& volume = {});
+/// Read the tetrahedra of the physical volumes `volumes` (several, e.g. a core and its jacket
+/// meshed conformally), region[t] the index of tet t's volume; they keep the nodes they
+/// share, so the volumes are tied. Every tet of the file must be in exactly one of them: a tet
+/// in none or in two, and a volume that holds no tet, throw InputError naming the file's
+/// physical volumes.
+TetMesh readMsh(const std::string& path, double scale, const std::vector<MshVolume>& volumes);
 MeshQuality meshQuality(const TetMesh& mesh);
 
 /// Signed volume of the tet (a, b, c, d): det[b-a, c-a, d-a] / 6.

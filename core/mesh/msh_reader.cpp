@@ -369,36 +369,79 @@ std::string physicalVolumes(const RawMesh& raw) {
   return list.empty() ? "none" : list;
 }
 
-/// Keeps the tets of the physical volume `volume` asks for (all when it asks for none).
-void selectVolume(const std::string& path, RawMesh& raw, const MshVolume& volume) {
-  if (volume.all()) return;
-  long long tag = volume.tag;
-  for (const auto& [t, name] : raw.volume_names)
-    if (!volume.name.empty() && name == volume.name) tag = t;
-  // (a name no volume has leaves tag 0, which no tet's physical group is: untagged 2.2
-  // tets have 0 as their group, hence the check)
-  const auto inVolume = [&](const RawTet& t) {
-    if (tag == 0) return false;
-    if (!raw.groups_are_entities) return t.group == tag;
-    const auto it = raw.volume_physicals.find(t.group);
-    return it != raw.volume_physicals.end() &&
-           std::find(it->second.begin(), it->second.end(), tag) != it->second.end();
-  };
-  const std::string list = physicalVolumes(raw);
-  raw.tets.erase(std::remove_if(raw.tets.begin(), raw.tets.end(),
-                                [&](const RawTet& t) { return !inVolume(t); }),
-                 raw.tets.end());
-  if (raw.tets.empty())
-    throw InputError(path, 0, 0,
-                     "no tetrahedra in the physical volume " +
-                         (volume.name.empty() ? std::to_string(volume.tag)
-                                              : "\"" + volume.name + "\"") +
-                         "; the mesh's physical volumes: " + list);
+/// The physical tag `volume` asks for: its name's, or its own; 0 (no volume's) for a name no
+/// volume has, which untagged 2.2 tets (group 0) must not match either.
+long long volumeTag(const RawMesh& raw, const MshVolume& volume) {
+  if (volume.name.empty()) return volume.tag;
+  for (const auto& [tag, name] : raw.volume_names)
+    if (name == volume.name) return tag;
+  return 0;
 }
 
-}  // namespace
+bool inVolume(const RawMesh& raw, const RawTet& t, long long tag) {
+  if (tag == 0) return false;
+  if (!raw.groups_are_entities) return t.group == tag;
+  const auto it = raw.volume_physicals.find(t.group);
+  return it != raw.volume_physicals.end() &&
+         std::find(it->second.begin(), it->second.end(), tag) != it->second.end();
+}
 
-TetMesh readMsh(const std::string& path, double scale, const MshVolume& volume) {
+std::string volumeText(const MshVolume& v) {
+  return v.name.empty() ? std::to_string(v.tag) : "\"" + v.name + "\"";
+}
+
+/// Keeps the tets of the physical volumes asked for; returns each kept tet's volume (its
+/// index in `volumes`). `whole`: every tet must be in one of them (a body of several
+/// materials leaves none of its file out). The scene asked for the volumes, so the errors
+/// carry no line of the file.
+std::vector<int> selectVolumes(const std::string& path, RawMesh& raw,
+                               const std::vector<MshVolume>& volumes, bool whole) {
+  std::vector<long long> tags;
+  for (const MshVolume& v : volumes) tags.push_back(volumeTag(raw, v));
+  const std::string list = physicalVolumes(raw);
+  std::vector<RawTet> kept;
+  std::vector<int> region;
+  std::vector<std::size_t> count(volumes.size(), 0);
+  std::size_t outside = 0;
+  const RawTet* first_outside = nullptr;
+  for (const RawTet& t : raw.tets) {
+    int in = -1;
+    for (std::size_t k = 0; k < tags.size(); ++k) {
+      if (!inVolume(raw, t, tags[k])) continue;
+      if (in >= 0)
+        throw InputError(path, 0, 0,
+                         "element " + std::to_string(t.tag) + " (line " +
+                             std::to_string(t.line) + ") is in both physical volumes " +
+                             volumeText(volumes[static_cast<std::size_t>(in)]) + " and " +
+                             volumeText(volumes[k]) + ": give each tet one material");
+      in = static_cast<int>(k);
+    }
+    if (in < 0) {
+      if (outside++ == 0) first_outside = &t;
+      continue;
+    }
+    ++count[static_cast<std::size_t>(in)];
+    kept.push_back(t);
+    region.push_back(in);
+  }
+  for (std::size_t k = 0; k < volumes.size(); ++k)
+    if (count[k] == 0)
+      throw InputError(path, 0, 0,
+                       "no tetrahedra in the physical volume " + volumeText(volumes[k]) +
+                           "; the mesh's physical volumes: " + list);
+  if (whole && outside > 0)
+    throw InputError(path, 0, 0,
+                     std::to_string(outside) + " of the mesh's " +
+                         std::to_string(raw.tets.size()) +
+                         " tetrahedra are in none of the physical volumes given a material "
+                         "(the first: element " + std::to_string(first_outside->tag) +
+                         ", line " + std::to_string(first_outside->line) +
+                         "); the mesh's physical volumes: " + list);
+  raw.tets = std::move(kept);
+  return region;
+}
+
+RawMesh readTets(const std::string& path, double scale) {
   if (!(scale > 0 && std::isfinite(scale)))
     throw InputError(path, 0, 0, "mesh scale must be a positive number");
   MshLines in(path);
@@ -406,8 +449,23 @@ TetMesh readMsh(const std::string& path, double scale, const MshVolume& volume) 
   if (raw.tets.empty())
     throw InputError(path, raw.elements_line > 0 ? raw.elements_line : in.line(), 0,
                      "no linear tetrahedra (element type 4) in the mesh");
-  selectVolume(path, raw, volume);
+  return raw;
+}
+
+}  // namespace
+
+TetMesh readMsh(const std::string& path, double scale, const MshVolume& volume) {
+  RawMesh raw = readTets(path, scale);
+  if (!volume.all()) selectVolumes(path, raw, {volume}, false);
   return mesh_detail::assembleTetMesh(raw.nodes, resolveTets(path, raw));
+}
+
+TetMesh readMsh(const std::string& path, double scale, const std::vector<MshVolume>& volumes) {
+  RawMesh raw = readTets(path, scale);
+  std::vector<int> region = selectVolumes(path, raw, volumes, true);
+  TetMesh mesh = mesh_detail::assembleTetMesh(raw.nodes, resolveTets(path, raw));
+  mesh.region = std::move(region);
+  return mesh;
 }
 
 }  // namespace fesph

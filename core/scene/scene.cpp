@@ -422,10 +422,37 @@ Placement readPlacement(const toml::table& t, const std::string& file) {
   return pl;
 }
 
+// `materials = { core = "steel_4340", jacket = "OFHC_copper" }`: the physical volumes of the
+// body's msh file (a key is a volume's name, or its tag in digits) and their materials.
+void readVolumeMaterials(const toml::table& by_volume, const std::string& file,
+                         const toml::table& shape, MshShape& m, SceneBody& b) {
+  if (shape.contains("physical"))
+    fail(file, where(shape, "physical"),
+         "'physical' makes the body one physical volume of one material; with 'materials' "
+         "the body is the volumes it names: leave 'physical' out");
+  if (by_volume.empty())
+    fail(file, by_volume.source(),
+         "'materials' must give at least one physical volume its material, e.g. materials = "
+         "{ core = \"steel_4340\", jacket = \"OFHC_copper\" }");
+  for (auto&& [key, value] : by_volume) {
+    const std::string k(key.str());
+    if (!value.is_string() || value.as_string()->get().empty())
+      fail(file, value.source(),
+           "the material of physical volume '" + k + "' must be a material id (a string)");
+    MshVolume v;
+    const bool digits = std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (digits && k.size() < 18 && std::stoll(k) > 0) v.tag = std::stoll(k);
+    else v.name = k;
+    m.volumes.push_back(v);
+    b.volume_materials.push_back(value.as_string()->get());
+  }
+  b.material = b.volume_materials.front();
+}
+
 SceneBody readBody(const toml::table& t, const std::string& file, const Scene& sc) {
   allowKeys(t, file,
-            {"name", "material", "discretisation", "projectile", "velocity", "position",
-             "rotation", "shape"},
+            {"name", "material", "materials", "discretisation", "projectile", "velocity",
+             "position", "rotation", "shape"},
             "[[bodies]]");
   SceneBody b;
   b.line = static_cast<int>(t.source().begin.line);
@@ -435,7 +462,12 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
     fail(file, where(t, "name"),
          "'name' must be letters, digits, '_' and '-' (it names image files and history "
          "columns), got '" + b.name + "'");
-  b.material = string(t, "material", file);
+  const toml::table* by_volume = table(t, "materials", file);
+  if (by_volume && t.contains("material"))
+    fail(file, where(t, "materials"),
+         "a body has 'material' (one for all of it) or 'materials' (one per physical volume of "
+         "its msh file), not both");
+  b.material = by_volume ? std::string() : string(t, "material", file);
   b.discretisation = choice(t, "discretisation", file, {"fem", "sph"}, std::string("fem")) == "sph"
                          ? Discretisation::Sph
                          : Discretisation::Fem;
@@ -472,9 +504,14 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
         fail(file, n->source(),
              "'physical' must be a physical volume's name (a string) or tag (an integer > 0)");
     }
+    if (by_volume) readVolumeMaterials(*by_volume, file, shape, m, b);
     if (!fs::exists(m.path)) fail(file, where(shape, "file"), "mesh file not found: " + m.path);
     b.shape = m;
   }
+  if (by_volume && b.volume_materials.empty())
+    fail(file, where(t, "materials"),
+         "'materials' gives each physical volume of an msh shape its material: this body's "
+         "shape is a " + type);
   return b;
 }
 
@@ -551,16 +588,22 @@ void readSceneTables(const toml::table& root, const std::string& file,
       fail(file, where(*bt, "name"), "a body named '" + b.name + "' already exists");
     // A material of the library, or one the scene defines whole under [materials.ID]: a
     // scene then carries its own material and runs the same wherever it is copied.
-    if (!lib.contains(b.material) &&
-        !(overrides_tbl && overrides_tbl->get_as<toml::table>(b.material))) {
-      std::string all;
-      for (const auto& id : lib.ids()) all += (all.empty() ? "" : ", ") + id;
-      fail(file, where(*bt, "material"),
-           "unknown material '" + b.material + "': not defined in the scene as [materials." +
-               b.material + "], and the library " + lib_path + " has only: " + all);
-    }
-    if (std::find(material_ids.begin(), material_ids.end(), b.material) == material_ids.end())
-      material_ids.push_back(b.material);
+    const auto use = [&](const std::string& id, const toml::source_region& at) {
+      if (!lib.contains(id) && !(overrides_tbl && overrides_tbl->get_as<toml::table>(id))) {
+        std::string all;
+        for (const auto& known : lib.ids()) all += (all.empty() ? "" : ", ") + known;
+        fail(file, at,
+             "unknown material '" + id + "': not defined in the scene as [materials." + id +
+                 "], and the library " + lib_path + " has only: " + all);
+      }
+      if (std::find(material_ids.begin(), material_ids.end(), id) == material_ids.end())
+        material_ids.push_back(id);
+    };
+    if (b.volume_materials.empty())
+      use(b.material, where(*bt, "material"));
+    else
+      for (auto&& [key, value] : *bt->get_as<toml::table>("materials"))
+        use(value.as_string()->get(), value.source());
     sc.bodies.push_back(std::move(b));
   }
   if (overrides_tbl) {
@@ -641,8 +684,8 @@ Scene loadSceneText(const std::string& text, const std::string& path,
 const std::vector<std::string>& outputFieldNames() {
   static const std::vector<std::string> names = {
       "stress", "pressure", "von_mises", "plastic_strain", "plastic_strain_rate",
-      "temperature", "damage", "density", "body", "element_id", "velocity", "displacement",
-      "node_id"};
+      "temperature", "damage", "density", "body", "material", "element_id", "velocity",
+      "displacement", "node_id"};
   return names;
 }
 

@@ -19,11 +19,17 @@ struct MshShape {
   std::string path;  ///< resolved against the scene's folder
   double scale = 1.0;
   MshVolume volume;  ///< the physical volume that is the body (none: every volume)
+  /// A body of several physical volumes, one material each (SceneBody::volume_materials),
+  /// tied at the nodes they share; empty: `volume`.
+  std::vector<MshVolume> volumes;
 };
 
 struct SceneBody {
   std::string name;
-  std::string material;  ///< material id
+  std::string material;  ///< material id (its first volume's when it has several)
+  /// The material of each of MshShape::volumes (`materials = { core = "id", ... }`); empty:
+  /// the body is of `material`.
+  std::vector<std::string> volume_materials;
   Discretisation discretisation = Discretisation::Fem;
   bool projectile = false;
   std::variant<PlateSpec, ProjectileSpec, MshShape> shape;

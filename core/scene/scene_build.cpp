@@ -30,10 +30,12 @@ TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
   }
   const auto& m = std::get<MshShape>(b.shape);
   try {
-    return readMsh(m.path, m.scale, m.volume);
+    return m.volumes.empty() ? readMsh(m.path, m.scale, m.volume)
+                             : readMsh(m.path, m.scale, m.volumes);
   } catch (const InputError& e) {
-    // A physical volume the file lacks is the scene's mistake: said at the body's table.
-    if (e.line() != 0 || m.volume.all()) throw;
+    // A physical volume the file lacks, or one the scene gives no material, is the scene's
+    // mistake: said at the body's table.
+    if (e.line() != 0 || (m.volume.all() && m.volumes.empty())) throw;
     throw InputError(scene_path, b.line, 0, "body '" + b.name + "': " + e.file() + ": " +
                                                 e.message());
   }
@@ -110,32 +112,59 @@ void checkOneSide(const Scene& sc, const Model& model, const SymmetryPlane& s) {
 // from a millimetre (a fragment) to a metre (a large plate).
 constexpr double kLargestBody = 2.0, kSmallestBody = 1e-4;  // m, across its longest side
 
+// "12.3 g" or "4.56 kg".
+std::string massText(double kg) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g %s", kg < 1 ? 1e3 * kg : kg, kg < 1 ? "g" : "kg");
+  return text;
+}
+
 // The meshing log's line for a body: its mesh, its size and mass (where a unit slip shows),
-// its quality; and the warning for an .msh body of a size no body of this tool has.
-void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh, double rho0,
-                  std::ostream& log) {
+// its quality, and for a body of several physical volumes each volume's tets, material and
+// mass; the warning for an .msh body of a size no body of this tool has. `materials`: as
+// addBody's.
+void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh,
+                  const std::vector<int>& materials, std::ostream& log) {
   const MeshQuality q = meshQuality(mesh);
   Vec3 lo = mesh.nodes.front(), hi = lo;
   for (const Vec3& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   const Vec3 size = hi - lo;
-  const double mass = rho0 * q.volume;
+  std::vector<double> volume_mass(b.volume_materials.size(), 0.0);
+  std::vector<std::size_t> volume_tets(b.volume_materials.size(), 0);
+  double mass = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const auto& c = mesh.tets[t];
+    const double m = sc.materials[static_cast<std::size_t>(tetMaterial(mesh, materials, t))].rho0 *
+                     tetVolume(mesh.nodes[c[0]], mesh.nodes[c[1]], mesh.nodes[c[2]],
+                               mesh.nodes[c[3]]);
+    mass += m;
+    if (!mesh.region.empty()) {
+      volume_mass[static_cast<std::size_t>(mesh.region[t])] += m;
+      ++volume_tets[static_cast<std::size_t>(mesh.region[t])];
+    }
+  }
   char line[160];
-  std::snprintf(line, sizeof line, "%.6g x %.6g x %.6g mm, %.4g %s", 1e3 * size.x(),
-                1e3 * size.y(), 1e3 * size.z(), mass < 1 ? 1e3 * mass : mass,
-                mass < 1 ? "g" : "kg");
+  std::snprintf(line, sizeof line, "%.6g x %.6g x %.6g mm, %s", 1e3 * size.x(), 1e3 * size.y(),
+                1e3 * size.z(), massText(mass).c_str());
   log << "  body '" << b.name << "': " << q.nodes << " nodes, " << q.elements << " tets, "
       << line << (sc.symmetry.empty() ? "" : " (its part on one side of the symmetry plane)")
       << ", shape quality min " << q.min_quality << " mean " << q.mean_quality
       << ", min dihedral " << q.min_dihedral_deg << " deg\n";
-  const auto* msh = std::get_if<MshShape>(&b.shape);
+  const auto* shape = std::get_if<MshShape>(&b.shape);
+  for (std::size_t v = 0; v < b.volume_materials.size(); ++v) {
+    const MshVolume& vol = shape->volumes[v];
+    log << "    volume " << (vol.name.empty() ? std::to_string(vol.tag) : "'" + vol.name + "'")
+        << ": " << volume_tets[v] << " tets of " << b.volume_materials[v] << ", "
+        << massText(volume_mass[v]) << "\n";
+  }
   const double across = size.maxCoeff();
-  if (!msh || (across <= kLargestBody && across >= kSmallestBody)) return;
+  if (!shape || (across <= kLargestBody && across >= kSmallestBody)) return;
   char what[320];
   std::snprintf(what, sizeof what,
                 "warning: body '%s' measures %.6g mm across (%s at scale %g): the scene is in "
                 "m, so a file in mm needs scale = 1e-3, one in m scale = 1 (the default)\n",
-                b.name.c_str(), 1e3 * across, fs::path(msh->path).filename().string().c_str(),
-                msh->scale);
+                b.name.c_str(), 1e3 * across, fs::path(shape->path).filename().string().c_str(),
+                shape->scale);
   log << sc.path << ":" << b.line << ": " << what;
 }
 
@@ -188,15 +217,18 @@ Model buildModel(const Scene& sc, std::ostream* log) {
   std::vector<TetMesh> meshes;
   for (const SceneBody& b : sc.bodies) {
     TetMesh mesh = meshBody(b, sc.path);
-    const int mat = static_cast<int>(
-        std::find(sc.material_ids.begin(), sc.material_ids.end(), b.material) -
-        sc.material_ids.begin());
-    if (log) describeBody(sc, b, mesh, sc.materials[static_cast<std::size_t>(mat)].rho0, *log);
+    std::vector<int> mats;  // one per region of the mesh (one region unless several volumes)
+    for (const std::string& id :
+         b.volume_materials.empty() ? std::vector<std::string>{b.material} : b.volume_materials)
+      mats.push_back(static_cast<int>(
+          std::find(sc.material_ids.begin(), sc.material_ids.end(), id) -
+          sc.material_ids.begin()));
+    if (log) describeBody(sc, b, mesh, mats, *log);
     if (b.discretisation == Discretisation::Sph)  // one particle per tet, from the start
-      addParticleBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile,
+      addParticleBody(model, b.name, mesh, mats, b.placement, b.velocity, b.projectile,
                       model.sph.controls.kappa);
     else
-      addBody(model, b.name, mesh, mat, b.placement, b.velocity, b.projectile);
+      addBody(model, b.name, mesh, mats, b.placement, b.velocity, b.projectile);
     meshes.push_back(std::move(mesh));
   }
   for (const FixedBoundary& f : sc.fixed) {

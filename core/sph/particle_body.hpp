@@ -21,10 +21,17 @@ int addParticleBody(Model& model, const std::string& name, const std::vector<Vec
                     bool is_projectile, double kappa = SphControls{}.kappa);
 
 /// Append a body of particles, one per tetrahedron of `mesh` at its centroid with the tet's
-/// volume (placed by `placement`). Returns the body index.
-int addParticleBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
-                    const Placement& placement, const Vec3& velocity, bool is_projectile,
-                    double kappa = SphControls{}.kappa);
+/// volume (placed by `placement`), of the material of the tet's region (`materials`, as
+/// addBody's). Returns the body index.
+int addParticleBody(Model& model, const std::string& name, const TetMesh& mesh,
+                    const std::vector<int>& materials, const Placement& placement,
+                    const Vec3& velocity, bool is_projectile, double kappa = SphControls{}.kappa);
+inline int addParticleBody(Model& model, const std::string& name, const TetMesh& mesh,
+                           int material, const Placement& placement, const Vec3& velocity,
+                           bool is_projectile, double kappa = SphControls{}.kappa) {
+  return addParticleBody(model, name, mesh, std::vector<int>{material}, placement, velocity,
+                         is_projectile, kappa);
+}
 
 /// Mass-weighted mean position of a body's particles, m.
 Vec3 particleBodyCentre(const Model& model, int body);

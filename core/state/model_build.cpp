@@ -7,22 +7,32 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 namespace fesph {
 
-int addBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
-            const Placement& placement, const Vec3& velocity, bool is_projectile) {
+int tetMaterial(const TetMesh& mesh, const std::vector<int>& materials, std::size_t t) {
+  const std::size_t region = mesh.region.empty() ? 0 : static_cast<std::size_t>(mesh.region[t]);
+  if (region >= materials.size())
+    throw std::logic_error("tet " + std::to_string(t) + " is of region " +
+                           std::to_string(region) + ", and " +
+                           std::to_string(materials.size()) + " materials were given");
+  return materials[region];
+}
+
+int addBody(Model& model, const std::string& name, const TetMesh& mesh,
+            const std::vector<int>& materials, const Placement& placement, const Vec3& velocity,
+            bool is_projectile) {
   Nodes& nd = model.nodes;
   Elements& el = model.elems;
   const int b = static_cast<int>(model.bodies.size());
   Body body;
   body.name = name;
-  body.material = material;
+  body.material = tetMaterial(mesh, materials, 0);
   body.is_projectile = is_projectile;
   body.node_begin = nd.size();
   body.elem_begin = el.size();
-  const Material& mat = model.materials.at(material);
 
   for (const Vec3& p : mesh.nodes) {
     const Vec3 x = placement.rotation * p + placement.translation;
@@ -36,6 +46,8 @@ int addBody(Model& model, const std::string& name, const TetMesh& mesh, int mate
   }
   const int offset = static_cast<int>(body.node_begin);
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const int material = tetMaterial(mesh, materials, t);
+    const Material& mat = model.materials.at(static_cast<std::size_t>(material));
     std::array<int, 4> c;
     for (int k = 0; k < 4; ++k) c[k] = mesh.tets[t][k] + offset;
     const double V = tetVolume(nd.x[c[0]], nd.x[c[1]], nd.x[c[2]], nd.x[c[3]]);

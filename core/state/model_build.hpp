@@ -7,7 +7,9 @@
 #include "core/state/model.hpp"
 
 #include <cmath>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace fesph {
 
@@ -17,9 +19,20 @@ struct Placement {
   Vec3 translation = Vec3::Zero();
 };
 
-/// Append a meshed body with uniform initial velocity. Returns the body index.
-int addBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
-            const Placement& placement, const Vec3& velocity, bool is_projectile);
+/// Append a meshed body with uniform initial velocity. `materials`: one per region of the
+/// mesh (TetMesh::region; one material when it has none). Returns the body index.
+int addBody(Model& model, const std::string& name, const TetMesh& mesh,
+            const std::vector<int>& materials, const Placement& placement, const Vec3& velocity,
+            bool is_projectile);
+inline int addBody(Model& model, const std::string& name, const TetMesh& mesh, int material,
+                   const Placement& placement, const Vec3& velocity, bool is_projectile) {
+  return addBody(model, name, mesh, std::vector<int>{material}, placement, velocity,
+                 is_projectile);
+}
+
+/// The material of tet t of `mesh` read with one per region (addBody's `materials`); throws
+/// std::logic_error when `materials` has no entry for its region.
+int tetMaterial(const TetMesh& mesh, const std::vector<int>& materials, std::size_t t);
 
 /// Lumped masses, corner lists, scratch arrays and the initial energy. Call once after all
 /// bodies are added. Throws InputError for a degenerate mesh.

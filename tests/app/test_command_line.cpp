@@ -770,6 +770,43 @@ TEST_CASE("a run folder's scene reruns as it ran, a --set over its resolution pr
   CHECK(elements("again") == elements("fine"));
 }
 
+TEST_CASE("a jacketed bullet from one .msh: its core and jacket of their materials, tied",
+          "[app]") {
+  // The shell scene's projectile as a bullet meshed in one file (tests/app/jacketed_bullet.msh,
+  // in mm): a steel core in a copper jacket, one body of two physical volumes, each given its
+  // material. The meshing log gives each volume's tets and mass; the shell's mesh info both
+  // materials. Masses: core 3 x 3 x 6 mm of steel_4340 (7830 kg/m^3) 0.4228 g, jacket 162
+  // mm^3 of OFHC_copper (8960 kg/m^3) 1.452 g.
+  const TempFolder dir("jacketed_bullet");
+  fs::copy_file(std::string(FESPH_TEST_APP_DIR) + "/jacketed_bullet.msh",
+                dir.path / "bullet.msh");
+  std::string scene = slurp(std::string(FESPH_TEST_APP_DIR) + "/shell_scene.toml");
+  const auto from = scene.find("name = \"projectile\"");
+  const auto to = scene.find("[[bodies]]", from);
+  REQUIRE(to != std::string::npos);
+  scene.replace(from, to - from,
+                "name = \"projectile\"\nmaterials = { core = \"steel_4340\", jacket = "
+                "\"OFHC_copper\" }\nprojectile = true\nvelocity = [0.0, 0.0, -600.0]\n"
+                "position = [0.0, 0.0, 0.3e-3]\n[bodies.shape]\ntype = \"msh\"\n"
+                "file = \"bullet.msh\"\nscale = 1e-3\n\n");
+  std::ofstream(dir.path / "scene.toml") << scene;
+  const Result run = command("run scene.toml --end-time 1e-6 --out run", dir.path);
+  INFO(run.out);
+  REQUIRE(run.code == 0);
+  CHECK(has(run.out, "body 'projectile': 125 nodes, 384 tets, 6 x 6 x 6 mm, 1.874 g"));
+  CHECK(has(run.out, "    volume 'core': 96 tets of steel_4340, 0.4228 g\n"));
+  CHECK(has(run.out, "    volume 'jacket': 288 tets of OFHC_copper, 1.452 g\n"));
+  std::ofstream(dir.path / "script") << "load scene.toml\nmesh info\n";
+  const Result shell = command("shell < script", dir.path);
+  INFO(shell.out);
+  std::istringstream lines(shell.out);
+  std::string projectile;
+  for (std::string l; std::getline(lines, l);)
+    if (l.rfind("projectile ", 0) == 0) projectile = l;
+  CHECK(has(projectile, " steel_4340+OFHC_copper "));
+  CHECK(has(projectile, " 384       125 "));
+}
+
 TEST_CASE("a plate made of particles: the run draws what it can and says what it cannot",
           "[app]") {
   // Plate images and holes are drawn from a plate's elements. A plate made of particles has

@@ -16,6 +16,7 @@
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
@@ -41,7 +42,7 @@ void addTet(Model& m, std::array<int, 4> c, int body) {
   if (det < 0) std::swap(c[2], c[3]);
   m.elems.conn.push_back(c);
   m.elems.body.push_back(body);
-  m.elems.material.push_back(0);
+  m.elems.material.push_back(static_cast<int>(m.elems.material.size() % 2));  // both kinds
   m.elems.V0.push_back(std::abs(det) / 6.0);
   m.elems.V.push_back(std::abs(det) / 6.0);
   m.elems.dV.push_back(0.0);
@@ -94,6 +95,9 @@ Model twoBodies() {
   b1.elem_begin = 5;
   b1.elem_end = 7;
   m.bodies = {b0, b1};
+  m.materials.resize(2);
+  m.materials[0].name = "steel core";
+  m.materials[1].name = "copper jacket";
   return m;
 }
 
@@ -191,13 +195,20 @@ TEST_CASE("SeriesWriter writes live tets with exact values and a .pvd", "[unit][
     for (const auto& [name, comps] : std::vector<std::pair<const char*, int>>{
              {"stress", 6}, {"pressure", 1}, {"von_mises", 1}, {"plastic_strain", 1},
              {"plastic_strain_rate", 1}, {"temperature", 1}, {"damage", 1}, {"density", 1},
-             {"body", 1}, {"element_id", 1}}) {
+             {"body", 1}, {"material", 1}, {"element_id", 1}}) {
       INFO(name);
       REQUIRE(cd->GetArray(name) != nullptr);
       CHECK(cd->GetArray(name)->GetNumberOfComponents() == comps);
     }
     CHECK(cd->GetArray("body")->GetDataType() == VTK_INT);
+    CHECK(cd->GetArray("material")->GetDataType() == VTK_INT);
     CHECK(cd->GetArray("element_id")->GetDataType() == VTK_TYPE_INT64);
+    // what the material numbers stand for
+    auto* names = vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("material_names"));
+    REQUIRE(names != nullptr);
+    REQUIRE(names->GetNumberOfValues() == 2);
+    CHECK(names->GetValue(0) == "steel core");
+    CHECK(names->GetValue(1) == "copper jacket");
     // VTK and ParaView read a 6-component array as a symmetric tensor in the order XX YY ZZ
     // XY YZ XZ (vtkMath::TensorFromSymmetricTensor); the names must say the same
     const std::vector<std::string> tensor = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
@@ -228,6 +239,7 @@ TEST_CASE("SeriesWriter writes live tets with exact values and a .pvd", "[unit][
       CHECK(cd->GetArray("density")->GetComponent(c, 0) == m.elems.rho[e]);
       CHECK(cd->GetArray("von_mises")->GetComponent(c, 0) == vonMises(st.s));
       CHECK(cd->GetArray("body")->GetComponent(c, 0) == m.elems.body[e]);
+      CHECK(cd->GetArray("material")->GetComponent(c, 0) == m.elems.material[e]);
       const double sigma[6] = {st.s.xx - st.p, st.s.yy - st.p, st.s.zz - st.p,
                                st.s.xy,        st.s.yz,        st.s.zx};
       for (int k = 0; k < 6; ++k) CHECK(cd->GetArray("stress")->GetComponent(c, k) == sigma[k]);
@@ -273,7 +285,7 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
     const double V = (1.0 + k / 3.0) * 1e-9;
     appendParticle(m.particles, Vec3(0.5 + k, 1.0 / (k + 3.0), -0.25 * k),
                    Vec3(100.0 / (k + 1), -7.0 * k, 1.0 / 3.0), 7.8e-6 * (1 + k / 5.0), V,
-                   std::cbrt(V), 1.3e-3, st, k == 2 ? 1 : 0, 0, k == 1 ? -1 : 4 + k);
+                   std::cbrt(V), 1.3e-3, st, k == 2 ? 1 : 0, k % 2, k == 1 ? -1 : 4 + k);
     m.particles.rho[k] = 7800.0 + k / 13.0;
   }
   m.particles.id = {7, 3, 5};
@@ -326,10 +338,17 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
     CHECK(value("temperature", i) == pa.state[i].T);
     CHECK(value("tied", i) == (i == 1 ? 1.0 : 0.0));
     CHECK(value("body", i) == pa.body[i]);
+    CHECK(value("material", i) == pa.material[i]);
     CHECK(value("parent_element", i) == pa.parent[i]);
     CHECK(value("particle_id", i) == pa.id[i]);
   }
   CHECK(value("parent_element", 1) == -1);
+  CHECK(value("material", 1) == 1);
+  auto* names =
+      vtkStringArray::SafeDownCast(poly->GetFieldData()->GetAbstractArray("material_names"));
+  REQUIRE(names != nullptr);
+  REQUIRE(names->GetNumberOfValues() == 2);
+  CHECK(names->GetValue(1) == "copper jacket");
 }
 
 TEST_CASE("SeriesWriter writes only the requested fields", "[unit][output]") {

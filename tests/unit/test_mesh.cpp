@@ -176,7 +176,7 @@ InputError readError(const std::string& name, const std::string& text) {
 TEST_CASE("meshQuality of a regular tetrahedron", "[unit][mesh]") {
   // Regular tet of edge 2 sqrt(2) inscribed in the cube [-1, 1]^3: q = 1 exactly, dihedral
   // acos(1/3) = 70.528779 deg, V = a^3 / (6 sqrt 2) = 8/3. Tolerance: round-off.
-  const TetMesh m{{{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}}, {{0, 1, 2, 3}}};
+  const TetMesh m{{{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}}, {{0, 1, 2, 3}}, {}};
   REQUIRE(allPositive(m));
   const MeshQuality q = meshQuality(m);
   CHECK(q.nodes == 4);
@@ -195,7 +195,7 @@ TEST_CASE("meshQuality of a corner tetrahedron, a wedge and an inverted one", "[
   // 3 + 3 x 2 = 9, so q = 12 (1/2)^(2/3) / 9; dihedral angles 90 deg at the three edges
   // through the origin and acos(1/sqrt 3) = 54.7356 deg at the other three. Turned inside out
   // (two nodes swapped) its shape quality counts as 0 and its volume as -1/6.
-  const TetMesh corner{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2, 3}}};
+  const TetMesh corner{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2, 3}}, {}};
   const MeshQuality q = meshQuality(corner);
   CHECK(q.min_quality == Approx(12.0 * std::cbrt(0.25) / 9.0).epsilon(1e-12));
   const double shallow = std::acos(1.0 / std::sqrt(3.0)) * 180.0 / M_PI;
@@ -203,10 +203,10 @@ TEST_CASE("meshQuality of a corner tetrahedron, a wedge and an inverted one", "[
   CHECK(q.volume == Approx(1.0 / 6.0).epsilon(1e-12));
   // A wedge about the z axis (nodes 2, 3 on it, 0 and 1 off it at 0 and atan(0.2) around it):
   // its smallest dihedral angle is at edge 2-3, between the faces opposite nodes 0 and 1.
-  const TetMesh wedge{{{1, 0, 0}, {1, 0.2, 0.5}, {0, 0, 0}, {0, 0, 1}}, {{0, 1, 2, 3}}};
+  const TetMesh wedge{{{1, 0, 0}, {1, 0.2, 0.5}, {0, 0, 0}, {0, 0, 1}}, {{0, 1, 2, 3}}, {}};
   CHECK(meshQuality(wedge).min_dihedral_deg ==
         Approx(std::atan(0.2) * 180.0 / M_PI).epsilon(1e-12));
-  const TetMesh inverted{corner.nodes, {{1, 0, 2, 3}}};
+  const TetMesh inverted{corner.nodes, {{1, 0, 2, 3}}, {}};
   const MeshQuality qi = meshQuality(inverted);
   CHECK(qi.min_quality == 0.0);
   CHECK(qi.volume == Approx(-1.0 / 6.0).epsilon(1e-12));
@@ -445,6 +445,41 @@ TEST_CASE("readMsh takes one physical volume of a mesh with several, by name or 
   std::filesystem::remove(p41);
 }
 
+TEST_CASE("readMsh takes several physical volumes as one body, tied at their shared nodes",
+          "[unit][mesh]") {
+  // A core and its jacket meshed conformally: read together, each tet knows its volume (its
+  // material) and the two keep the nodes of the face they share, which ties them.
+  auto lines = kSmallMsh22;
+  lines.at(14) = "2 4 2 5 1 1 2 3 4";  // physical 5, above the face (1 2 3)
+  lines.at(15) = "3 4 2 7 1 1 2 3 5";  // physical 7, below it
+  auto named = lines;
+  named.insert(named.begin() + 3, {"$PhysicalNames", "2", "3 5 \"core\"", "3 7 \"jacket\"",
+                                   "$EndPhysicalNames"});
+  const std::string path = writeTemp("volumes.msh", joinLines(named));
+  const TetMesh both = readMsh(path, 1.0, std::vector<MshVolume>{{"jacket"}, {"", 5}});
+  REQUIRE(both.tets.size() == 2);
+  CHECK(both.nodes.size() == 5);  // the shared face's three nodes once
+  CHECK(both.region == std::vector<int>{1, 0});  // element 2 is the core (5, asked second)
+  // every tet must be given a volume: the jacket left out is said, with the first tet's line
+  try {
+    readMsh(path, 1.0, std::vector<MshVolume>{{"core"}});
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.line() == 0);  // the scene's mistake: the scene puts it at the body's line
+    CHECK_THAT(e.what(), Catch::Matchers::Contains(
+                             "1 of the mesh's 2 tetrahedra are in none of the physical volumes "
+                             "given a material (the first: element 3, line 21); the mesh's "
+                             "physical volumes: 5 \"core\", 7 \"jacket\""));
+  }
+  CHECK_THROWS_WITH(readMsh(path, 1.0, std::vector<MshVolume>{{"core"}, {"shell"}}),
+                    Catch::Matchers::Contains("no tetrahedra in the physical volume \"shell\""));
+  // one volume asked for twice (by name and by tag): its tets would have two materials
+  CHECK_THROWS_WITH(readMsh(path, 1.0, std::vector<MshVolume>{{"core"}, {"jacket"}, {"", 5}}),
+                    Catch::Matchers::Contains("element 2 (line 20) is in both physical volumes "
+                                              "\"core\" and 5: give each tet one material"));
+  std::filesystem::remove(path);
+}
+
 TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {
   SECTION("missing file") {
     const std::string path = dataFile("no_such_file.msh");
@@ -588,7 +623,7 @@ TEST_CASE("a flat or inverted tetrahedron, a loose node or an empty particle is 
     Model model;
     model.materials.push_back(testing::elasticMaterial());
     try {
-      addBody(model, "b", TetMesh{nodes, {tet}}, 0, Placement{}, Vec3::Zero(), false);
+      addBody(model, "b", TetMesh{nodes, {tet}, {}}, 0, Placement{}, Vec3::Zero(), false);
       finaliseModel(model);
     } catch (const InputError& e) {
       return std::string(e.what());
@@ -629,7 +664,7 @@ TEST_CASE("a body's mass and velocity count its own points, which start in the r
   model.materials[0].T_room = 250.0;  // not PointState's default
   const double s = 1e-3;
   addBody(model, "tet", TetMesh{{Vec3(0, 0, 0), Vec3(s, 0, 0), Vec3(0, s, 0), Vec3(0, 0, s)},
-                                {{0, 1, 2, 3}}},
+                                {{0, 1, 2, 3}}, {}},
           0, Placement{}, Vec3(1, 0, 0), false);
   addParticleBody(model, "p", {Vec3(0, 0, 1), Vec3(0, 0, 2)}, {1e-9, 3e-9}, 0, Vec3(0, 2, 0),
                   false, 1.3);

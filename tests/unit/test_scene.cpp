@@ -484,6 +484,101 @@ TEST_CASE("two bodies of one .msh: each its physical volume, of its own material
   }
 }
 
+TEST_CASE("one body of two physical volumes of one .msh: each of its material, tied",
+          "[unit][scene]") {
+  // The core and jacket above as one bullet: `materials` gives each physical volume its
+  // material; the volumes keep the nodes of the face they share (tied, not in contact).
+  const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
+  fs::create_directories(dir);
+  std::ofstream(dir / "tied.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n"
+                                     "3 5 \"core\"\n3 7 \"jacket\"\n$EndPhysicalNames\n$Nodes\n5\n"
+                                     "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n$EndNodes\n"
+                                     "$Elements\n2\n1 4 2 5 1 1 2 3 4\n2 4 2 7 1 1 3 2 5\n"
+                                     "$EndElements\n";
+  const std::string head = "title = \"bullet\"\n[simulation]\nend_time = 1e-6\n";
+  const auto bullet = [&](const std::string& materials, const std::string& shape_extra = "") {
+    return head + "[[bodies]]\nname = \"bullet\"\n" + materials +
+           "\nprojectile = true\nvelocity = [0, 0, -100]\n[bodies.shape]\ntype = \"msh\"\n"
+           "file = \"tied.msh\"\nscale = 1e-3\n" + shape_extra;
+  };
+  const std::string path = writeScene(
+      "tied.toml", bullet("materials = { core = \"steel_4340\", 7 = \"OFHC_copper\" }"));
+  std::ostringstream log;
+  const Model m = buildModel(loadScene(path, {}, library()), &log);
+  REQUIRE(m.bodies.size() == 1);
+  REQUIRE(m.elems.size() == 2);
+  CHECK(m.nodes.size() == 5);  // the shared face's nodes once: tied
+  CHECK(m.materials[m.elems.material[0]].rho0 == 7830.0);  // element 1: the core (steel_4340)
+  CHECK(m.materials[m.elems.material[1]].rho0 == 8960.0);  // element 2: the jacket (copper)
+  const double tet = 1e-9 / 6;  // each tet's volume, m^3
+  CHECK(bodyMass(m, 0) == Approx((7830.0 + 8960.0) * tet).epsilon(1e-12));
+  INFO(log.str());
+  CHECK(log.str().find("body 'bullet': 5 nodes, 2 tets, 1 x 1 x 2 mm, 0.002798 g") !=
+        std::string::npos);
+  CHECK(log.str().find("    volume 'core': 1 tets of steel_4340, 0.001305 g\n") !=
+        std::string::npos);
+  CHECK(log.str().find("    volume 7: 1 tets of OFHC_copper, 0.001493 g\n") !=
+        std::string::npos);
+  // made of particles, one per tet: each of its tet's material
+  const Model sph = buildModel(loadScene(
+      writeScene("tied_sph.toml",
+                 bullet("materials = { core = \"steel_4340\", 7 = \"OFHC_copper\" }\n"
+                        "discretisation = \"sph\"")),
+      {}, library()));
+  REQUIRE(sph.particles.size() == 2);
+  CHECK(sph.materials[sph.particles.material[0]].rho0 == 7830.0);
+  CHECK(sph.materials[sph.particles.material[1]].rho0 == 8960.0);
+  CHECK(sph.particles.m[1] == Approx(8960.0 * tet).epsilon(1e-12));
+
+  // Mistakes, each at its line: both keys ('materials', line 7), 'physical' beside
+  // 'materials' (line 13), an unknown material (line 6, at its value), no volume, a value
+  // that is no id, a shape that is not a file's, and a volume of the file left without a
+  // material (the body's line 4).
+  struct Bad {
+    std::string scene;
+    int line;
+    const char* says;
+  };
+  const std::vector<Bad> bad = {
+      {bullet("material = \"steel_4340\"\nmaterials = { core = \"steel_4340\" }"), 7,
+       "a body has 'material' (one for all of it) or 'materials' (one per physical volume of "
+       "its msh file), not both"},
+      {bullet("materials = { core = \"steel_4340\", jacket = \"OFHC_copper\" }",
+              "physical = \"core\"\n"),
+       13, "'physical' makes the body one physical volume of one material"},
+      {bullet("materials = { core = \"steel_4340\", jacket = \"OFHC_coper\" }"), 6,
+       "unknown material 'OFHC_coper'"},
+      {bullet("materials = {}"), 6, "'materials' must give at least one physical volume"},
+      {bullet("materials = { core = 3 }"), 6,
+       "the material of physical volume 'core' must be a material id (a string)"},
+      {head + "[[bodies]]\nname = \"bullet\"\nmaterials = { core = \"steel_4340\" }\n"
+              "[bodies.shape]\ntype = \"projectile\"\ndiameter = 4e-3\nlength = 8e-3\n"
+              "mesh_size = 2e-3\n",
+       6, "this body's shape is a projectile"},
+  };
+  for (const Bad& b : bad) {
+    const std::string scene = writeScene("tied_bad.toml", b.scene);
+    const auto error = thrownBy([&] { loadScene(scene, {}, library()); });
+    REQUIRE(error);
+    INFO(error->what());
+    CHECK(error->line() == b.line);
+    CHECK(std::string(error->what()).find(b.says) != std::string::npos);
+  }
+  const std::string partial =
+      writeScene("tied_partial.toml", bullet("materials = { core = \"steel_4340\" }"));
+  const auto error = thrownBy([&] { buildModel(loadScene(partial, {}, library())); });
+  REQUIRE(error);
+  INFO(error->what());
+  CHECK(error->file() == partial);
+  CHECK(error->line() == 4);
+  CHECK(std::string(error->what())
+            .find("body 'bullet': ") != std::string::npos);
+  CHECK(std::string(error->what())
+            .find("1 of the mesh's 2 tetrahedra are in none of the physical volumes given a "
+                  "material (the first: element 2, line 20); the mesh's physical volumes: 5 "
+                  "\"core\", 7 \"jacket\"") != std::string::npos);
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
