@@ -440,7 +440,8 @@ void readVolumeMaterials(const toml::table& by_volume, const std::string& file,
       fail(file, value.source(),
            "the material of physical volume '" + k + "' must be a material id (a string)");
     MshVolume v;
-    const bool digits = std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; });
+    const bool digits =
+        std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; });
     if (digits && k.size() < 18 && std::stoll(k) > 0) v.tag = std::stoll(k);
     else v.name = k;
     m.volumes.push_back(v);

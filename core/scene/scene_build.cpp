@@ -3,6 +3,7 @@
 #include "core/scene/scene.hpp"
 
 #include "core/common/error.hpp"
+#include "core/mesh/untied_parts.hpp"
 #include "core/scene/initial_overlap.hpp"
 #include "core/sph/particle_body.hpp"
 
@@ -39,6 +40,34 @@ TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
     throw InputError(scene_path, b.line, 0, "body '" + b.name + "': " + e.file() + ": " +
                                                 e.message());
   }
+}
+
+// An msh body's parts that touch without sharing nodes (volumes meshed apart) would pass
+// through each other, a body having no contact with itself: refused at the body's line.
+void checkTied(const Scene& sc, const SceneBody& b, const TetMesh& mesh) {
+  const UntiedContact untied = untiedParts(mesh);
+  if (untied.faces == 0) return;
+  const auto& shape = std::get<MshShape>(b.shape);
+  const auto volumeOf = [&](int tet) -> std::string {
+    if (mesh.region.empty()) return "";
+    const auto region = static_cast<std::size_t>(mesh.region[static_cast<std::size_t>(tet)]);
+    const MshVolume& v = shape.volumes[region];
+    return v.name.empty() ? std::to_string(v.tag) : "'" + v.name + "'";
+  };
+  const std::string a = volumeOf(untied.tet), c = volumeOf(untied.other);
+  char where[160];
+  std::snprintf(where, sizeof where, "%zu faces, the first at (%.4g, %.4g, %.4g) mm in the file",
+                untied.faces, 1e3 * untied.centre.x(), 1e3 * untied.centre.y(),
+                1e3 * untied.centre.z());
+  throw InputError(
+      sc.path, b.line, 0,
+      "body '" + b.name + "': " +
+          (a.empty() ? std::string("parts of its mesh") : "its volumes " + a + " and " + c) +
+          " touch or overlap without sharing their nodes (" + where +
+          "): meshed apart, they are not tied, and a body has no contact with itself, so they "
+          "would pass through each other. Mesh them as one (in Gmsh, fragment the volumes: "
+          "BooleanFragments) to tie them, or make them two bodies with 'physical' to have "
+          "them meet through the contact");
 }
 
 // Nodes on the lateral faces of a plate, found in its local frame.
@@ -217,6 +246,7 @@ Model buildModel(const Scene& sc, std::ostream* log) {
   std::vector<TetMesh> meshes;
   for (const SceneBody& b : sc.bodies) {
     TetMesh mesh = meshBody(b, sc.path);
+    if (std::holds_alternative<MshShape>(b.shape)) checkTied(sc, b, mesh);
     std::vector<int> mats;  // one per region of the mesh (one region unless several volumes)
     for (const std::string& id :
          b.volume_materials.empty() ? std::vector<std::string>{b.material} : b.volume_materials)

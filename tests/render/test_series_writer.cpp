@@ -204,7 +204,8 @@ TEST_CASE("SeriesWriter writes live tets with exact values and a .pvd", "[unit][
     CHECK(cd->GetArray("material")->GetDataType() == VTK_INT);
     CHECK(cd->GetArray("element_id")->GetDataType() == VTK_TYPE_INT64);
     // what the material numbers stand for
-    auto* names = vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("material_names"));
+    auto* names =
+        vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("material_names"));
     REQUIRE(names != nullptr);
     REQUIRE(names->GetNumberOfValues() == 2);
     CHECK(names->GetValue(0) == "steel core");

@@ -3,6 +3,8 @@
 // the .msh reader (valid 2.2 / 4.1 files, located errors) and the quality figures.
 #include "core/common/error.hpp"
 #include "core/mesh/mesh.hpp"
+#include "core/mesh/structured_box.hpp"
+#include "core/mesh/untied_parts.hpp"
 #include "core/sph/particle_body.hpp"
 #include "core/state/model_build.hpp"
 #include "tests/support/models.hpp"
@@ -478,6 +480,49 @@ TEST_CASE("readMsh takes several physical volumes as one body, tied at their sha
                     Catch::Matchers::Contains("element 2 (line 20) is in both physical volumes "
                                               "\"core\" and 5: give each tet one material"));
   std::filesystem::remove(path);
+}
+
+TEST_CASE("parts of a mesh that touch or overlap without sharing nodes are found",
+          "[unit][mesh]") {
+  // A body has no contact with itself: its parts are held together only where they share
+  // nodes. Reference: a structured bar (conformal: none found), the same bar with its rear
+  // half on nodes of its own (the face x = 2 is 2 x 2 squares of two triangles, each a
+  // boundary face on both sides: 16 found, on x = 2), the bar and a copy shifted by half a
+  // cell (overlap: found), and the bar and a copy 10 % of a cell away (apart: none).
+  const TetMesh bar = structuredBox(Vec3::Zero(), Vec3(4, 2, 2), 4, 2, 2);
+  CHECK(untiedParts(bar).faces == 0);
+
+  TetMesh split = bar;
+  std::vector<int> copy(bar.nodes.size(), -1);
+  for (auto& tet : split.tets) {
+    double x = 0;
+    for (int n : tet) x += 0.25 * bar.nodes[static_cast<std::size_t>(n)].x();
+    if (x < 2) continue;
+    for (int& n : tet) {
+      if (copy[static_cast<std::size_t>(n)] < 0) {
+        copy[static_cast<std::size_t>(n)] = static_cast<int>(split.nodes.size());
+        split.nodes.push_back(bar.nodes[static_cast<std::size_t>(n)]);
+      }
+      n = copy[static_cast<std::size_t>(n)];
+    }
+  }
+  const UntiedContact found = untiedParts(split);
+  CHECK(found.faces == 16);
+  CHECK(found.centre.x() == Approx(2.0).margin(1e-12));
+  CHECK(found.tet != found.other);
+
+  const auto twoBars = [&](const Vec3& shift) {
+    TetMesh two = bar;
+    const int offset = static_cast<int>(bar.nodes.size());
+    for (const Vec3& x : bar.nodes) two.nodes.push_back(x + shift);
+    for (auto tet : bar.tets) {
+      for (int& n : tet) n += offset;
+      two.tets.push_back(tet);
+    }
+    return two;
+  };
+  CHECK(untiedParts(twoBars(Vec3(0.5, 0.5, 0))).faces > 0);
+  CHECK(untiedParts(twoBars(Vec3(4.1, 0, 0))).faces == 0);
 }
 
 TEST_CASE("readMsh reports bad files at their line", "[unit][mesh]") {

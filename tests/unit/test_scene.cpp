@@ -564,6 +564,25 @@ TEST_CASE("one body of two physical volumes of one .msh: each of its material, t
     CHECK(error->line() == b.line);
     CHECK(std::string(error->what()).find(b.says) != std::string::npos);
   }
+  // The jacket meshed apart, on copies of the shared face's nodes: the two would pass
+  // through each other (a body has no contact with itself), refused at the body's line.
+  std::ofstream(dir / "untied.msh")
+      << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n3 5 \"core\"\n"
+         "3 7 \"jacket\"\n$EndPhysicalNames\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"
+         "4 0 0 1\n5 0 0 -1\n6 0 0 0\n7 1 0 0\n8 0 1 0\n$EndNodes\n$Elements\n2\n"
+         "1 4 2 5 1 1 2 3 4\n2 4 2 7 1 6 8 7 5\n$EndElements\n";
+  std::string untied_text =
+      bullet("materials = { core = \"steel_4340\", 7 = \"OFHC_copper\" }");
+  untied_text.replace(untied_text.find("tied.msh"), 8, "untied.msh");
+  const std::string untied = writeScene("untied.toml", untied_text);
+  const auto apart = thrownBy([&] { buildModel(loadScene(untied, {}, library())); });
+  REQUIRE(apart);
+  INFO(apart->what());
+  CHECK(apart->line() == 4);
+  CHECK(std::string(apart->what())
+            .find("body 'bullet': its volumes 'core' and 7 touch or overlap without sharing "
+                  "their nodes (2 faces, the first at (0.3333, 0.3333, 0) mm in the file)") !=
+        std::string::npos);
   const std::string partial =
       writeScene("tied_partial.toml", bullet("materials = { core = \"steel_4340\" }"));
   const auto error = thrownBy([&] { buildModel(loadScene(partial, {}, library())); });
