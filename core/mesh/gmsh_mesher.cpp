@@ -106,6 +106,13 @@ std::string num(double v) {
 void checkPlate(const PlateSpec& s) {
   if (!(s.size_x > 0 && s.size_y > 0 && s.thickness > 0))
     badSpec("plate: size_x, size_y and thickness must be > 0");
+  double sum = 0;
+  for (double t : s.layers) {
+    if (!(t > 0)) badSpec("plate: every layer's thickness must be > 0");
+    sum += t;
+  }
+  if (!s.layers.empty() && std::abs(sum - s.thickness) > 1e-9 * s.thickness)
+    badSpec("plate: the layers' thicknesses must sum to its thickness");
   if (!(s.fine_size > 0 && s.coarse_size >= s.fine_size))
     badSpec("plate: need 0 < fine_size <= coarse_size");
   if (!(s.grade_distance > 0 && s.refine_radius >= 0 && s.refine_stretch_x > 0))
@@ -188,12 +195,35 @@ void buildProjectile(const ProjectileSpec& s) {
 
 TetMesh meshPlate(const PlateSpec& spec) {
   checkPlate(spec);
-  return meshWithGmsh("plate", [&spec] {
+  // One box per layer, fragmented so that the faces between them are meshed once (shared).
+  std::vector<double> fronts = {0.0};  // the layers' front faces, then the rear face
+  for (double t : spec.layers) fronts.push_back(fronts.back() - t);
+  if (spec.layers.empty()) fronts.push_back(-spec.thickness);
+  TetMesh mesh = meshWithGmsh("plate", [&] {
+    namespace occ = gmsh::model::occ;
     const double y0 = spec.half ? 0.0 : -0.5 * spec.size_y;
-    gmsh::model::occ::addBox(-0.5 * spec.size_x, y0, -spec.thickness, spec.size_x,
-                             spec.size_y * (spec.half ? 0.5 : 1.0), spec.thickness);
+    gmsh::vectorpair boxes;
+    for (std::size_t k = 0; k + 1 < fronts.size(); ++k)
+      boxes.emplace_back(3, occ::addBox(-0.5 * spec.size_x, y0, fronts[k + 1], spec.size_x,
+                                        spec.size_y * (spec.half ? 0.5 : 1.0),
+                                        fronts[k] - fronts[k + 1]));
+    if (boxes.size() > 1) {
+      gmsh::vectorpair fragments;
+      std::vector<gmsh::vectorpair> map;
+      occ::fragment({boxes.front()}, {boxes.begin() + 1, boxes.end()}, fragments, map);
+    }
     setPlateSizeField(spec);
   });
+  if (spec.layers.empty()) return mesh;
+  mesh.region.resize(mesh.tets.size());
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    double z = 0;
+    for (int n : mesh.tets[t]) z += 0.25 * mesh.nodes[static_cast<std::size_t>(n)].z();
+    int layer = 0;
+    while (layer + 2 < static_cast<int>(fronts.size()) && z < fronts[layer + 1]) ++layer;
+    mesh.region[t] = layer;
+  }
+  return mesh;
 }
 
 TetMesh meshProjectile(const ProjectileSpec& spec) {

@@ -28,6 +28,10 @@ struct TetMesh {
 /// `refine_radius + grade_distance`. `half` keeps only y >= 0 (cut on the plane y = 0).
 struct PlateSpec {
   double size_x = 0, size_y = 0, thickness = 0;
+  /// Bonded layers, their thicknesses from the front face back (summing to `thickness`):
+  /// each a volume of its own sharing the nodes of the faces between them (tied), its index
+  /// TetMesh::region; empty: one layer.
+  std::vector<double> layers;
   double refine_x = 0, refine_y = 0, refine_radius = 0, refine_stretch_x = 1.0;
   double fine_size = 0, coarse_size = 0, grade_distance = 0;
   bool half = false;

@@ -335,15 +335,42 @@ void checkMeshCount(double tets, const toml::table& t, const std::string& file) 
   fail(file, where(t, "mesh_size"), buf);
 }
 
-PlateSpec readPlate(const toml::table& t, const std::string& file, bool half) {
+// `layers = [{ thickness = 3e-3, material = "RHA" }, ...]`: bonded layers from the front face
+// back, each of its material (into the body's volumes); the plate is as thick as they are.
+void readLayers(const toml::table& t, const std::string& file, PlateSpec& p, SceneBody& b) {
+  const toml::node& n = *t.get("layers");
+  const toml::array* layers = n.as_array();
+  const std::string expected =
+      "'layers' must list the plate's layers from its front face back, each { thickness = m, "
+      "material = \"id\" }";
+  if (!layers || layers->empty()) fail(file, n.source(), expected);
+  if (t.contains("thickness"))
+    fail(file, where(t, "thickness"),
+         "a plate of layers is as thick as its layers together: leave 'thickness' out");
+  p.thickness = 0;
+  for (std::size_t k = 0; k < layers->size(); ++k) {
+    const toml::table* layer = layers->get(k)->as_table();
+    if (!layer) fail(file, layers->get(k)->source(), expected);
+    allowKeys(*layer, file, {"thickness", "material"}, "plate layer");
+    p.layers.push_back(positive(*layer, "thickness", file));
+    p.thickness += p.layers.back();
+    b.volume_materials.push_back(string(*layer, "material", file));
+    b.volume_names.push_back("layer " + std::to_string(k + 1));
+  }
+}
+
+PlateSpec readPlate(const toml::table& t, const std::string& file, bool half, SceneBody& b) {
   allowKeys(t, file,
-            {"type", "size_x", "size_y", "thickness", "mesh_size", "coarse_size", "refine_center",
-             "refine_radius", "refine_stretch_x", "grade_distance"},
+            {"type", "size_x", "size_y", "thickness", "layers", "mesh_size", "coarse_size",
+             "refine_center", "refine_radius", "refine_stretch_x", "grade_distance"},
             "plate shape");
   PlateSpec p;
   p.size_x = positive(t, "size_x", file);
   p.size_y = positive(t, "size_y", file);
-  p.thickness = positive(t, "thickness", file);
+  if (t.contains("layers"))
+    readLayers(t, file, p, b);
+  else
+    p.thickness = positive(t, "thickness", file);
   p.fine_size = positive(t, "mesh_size", file);
   p.coarse_size = positive(t, "coarse_size", file, p.fine_size);
   if (p.coarse_size < p.fine_size)
@@ -446,8 +473,8 @@ void readVolumeMaterials(const toml::table& by_volume, const std::string& file,
     else v.name = k;
     m.volumes.push_back(v);
     b.volume_materials.push_back(value.as_string()->get());
+    b.volume_names.push_back(v.name.empty() ? k : "'" + k + "'");
   }
-  b.material = b.volume_materials.front();
 }
 
 SceneBody readBody(const toml::table& t, const std::string& file, const Scene& sc) {
@@ -468,7 +495,6 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
     fail(file, where(t, "materials"),
          "a body has 'material' (one for all of it) or 'materials' (one per physical volume of "
          "its msh file), not both");
-  b.material = by_volume ? std::string() : string(t, "material", file);
   b.discretisation = choice(t, "discretisation", file, {"fem", "sph"}, std::string("fem")) == "sph"
                          ? Discretisation::Sph
                          : Discretisation::Fem;
@@ -487,7 +513,11 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
   const toml::table& shape = *table(t, "shape", file, true);
   const std::string type = choice(shape, "type", file, {"plate", "projectile", "msh"});
   if (type == "plate") {
-    b.shape = readPlate(shape, file, sc.half);
+    b.shape = readPlate(shape, file, sc.half, b);
+    if (!b.volume_materials.empty() && (by_volume || t.contains("material")))
+      fail(file, where(t, by_volume ? "materials" : "material"),
+           "a plate of layers takes each layer's material from its entry in 'layers': leave "
+           "'" + std::string(by_volume ? "materials" : "material") + "' out");
   } else if (type == "projectile") {
     b.shape = readProjectile(shape, file, sc.half);
   } else {
@@ -513,6 +543,10 @@ SceneBody readBody(const toml::table& t, const std::string& file, const Scene& s
     fail(file, where(t, "materials"),
          "'materials' gives each physical volume of an msh shape its material: this body's "
          "shape is a " + type);
+  if (b.volume_materials.empty())
+    b.material = string(t, "material", file);
+  else
+    b.material = b.volume_materials.front();
   return b;
 }
 
@@ -600,11 +634,13 @@ void readSceneTables(const toml::table& root, const std::string& file,
       if (std::find(material_ids.begin(), material_ids.end(), id) == material_ids.end())
         material_ids.push_back(id);
     };
-    if (b.volume_materials.empty())
-      use(b.material, where(*bt, "material"));
+    if (const toml::table* by_volume = bt->get_as<toml::table>("materials"))
+      for (auto&& [key, value] : *by_volume) use(value.as_string()->get(), value.source());
+    else if (const toml::array* layers = bt->at_path("shape.layers").as_array())
+      for (const toml::node& layer : *layers)
+        use(string(*layer.as_table(), "material", file), where(*layer.as_table(), "material"));
     else
-      for (auto&& [key, value] : *bt->get_as<toml::table>("materials"))
-        use(value.as_string()->get(), value.source());
+      use(b.material, where(*bt, "material"));
     sc.bodies.push_back(std::move(b));
   }
   if (overrides_tbl) {

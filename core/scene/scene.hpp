@@ -27,9 +27,11 @@ struct MshShape {
 struct SceneBody {
   std::string name;
   std::string material;  ///< material id (its first volume's when it has several)
-  /// The material of each of MshShape::volumes (`materials = { core = "id", ... }`); empty:
-  /// the body is of `material`.
+  /// The material of each volume of a body of several: MshShape::volumes (`materials =
+  /// { core = "id", ... }`) or a plate's layers (PlateSpec::layers); empty: the body is of
+  /// `material`.
   std::vector<std::string> volume_materials;
+  std::vector<std::string> volume_names;  ///< as messages name them: 'core', 7, layer 1
   Discretisation discretisation = Discretisation::Fem;
   bool projectile = false;
   std::variant<PlateSpec, ProjectileSpec, MshShape> shape;

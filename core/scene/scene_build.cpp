@@ -47,12 +47,9 @@ TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
 void checkTied(const Scene& sc, const SceneBody& b, const TetMesh& mesh) {
   const UntiedContact untied = untiedParts(mesh);
   if (untied.faces == 0) return;
-  const auto& shape = std::get<MshShape>(b.shape);
   const auto volumeOf = [&](int tet) -> std::string {
     if (mesh.region.empty()) return "";
-    const auto region = static_cast<std::size_t>(mesh.region[static_cast<std::size_t>(tet)]);
-    const MshVolume& v = shape.volumes[region];
-    return v.name.empty() ? std::to_string(v.tag) : "'" + v.name + "'";
+    return b.volume_names[static_cast<std::size_t>(mesh.region[static_cast<std::size_t>(tet)])];
   };
   const std::string a = volumeOf(untied.tet), c = volumeOf(untied.other);
   char where[160];
@@ -179,13 +176,11 @@ void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh,
       << line << (sc.symmetry.empty() ? "" : " (its part on one side of the symmetry plane)")
       << ", shape quality min " << q.min_quality << " mean " << q.mean_quality
       << ", min dihedral " << q.min_dihedral_deg << " deg\n";
+  for (std::size_t v = 0; v < b.volume_materials.size(); ++v)
+    log << "    " << (std::holds_alternative<MshShape>(b.shape) ? "volume " : "")
+        << b.volume_names[v] << ": " << volume_tets[v] << " tets of " << b.volume_materials[v]
+        << ", " << massText(volume_mass[v]) << "\n";
   const auto* shape = std::get_if<MshShape>(&b.shape);
-  for (std::size_t v = 0; v < b.volume_materials.size(); ++v) {
-    const MshVolume& vol = shape->volumes[v];
-    log << "    volume " << (vol.name.empty() ? std::to_string(vol.tag) : "'" + vol.name + "'")
-        << ": " << volume_tets[v] << " tets of " << b.volume_materials[v] << ", "
-        << massText(volume_mass[v]) << "\n";
-  }
   const double across = size.maxCoeff();
   if (!shape || (across <= kLargestBody && across >= kSmallestBody)) return;
   char what[320];

@@ -323,6 +323,54 @@ TEST_CASE("meshProjectile: tangent-ogive nose and cavity", "[unit][mesh]") {
   CHECK(std::none_of(hollow.nodes.begin(), hollow.nodes.end(), inside));
 }
 
+TEST_CASE("a plate of bonded layers: each layer a region, tied at the faces between them",
+          "[unit][mesh]") {
+  // Layers 1, 2 and 1 mm from the front face back, 10 x 8 mm (half: 10 x 4 mm). Reference:
+  // each region's volume is its layer's, every tet lies within its layer, and the faces
+  // between layers are meshed once (no part untied, no two nodes at one place).
+  for (const bool half : {false, true}) {
+    PlateSpec p;
+    p.size_x = 10e-3;
+    p.size_y = 8e-3;
+    p.thickness = 4e-3;
+    p.layers = {1e-3, 2e-3, 1e-3};
+    p.fine_size = p.coarse_size = 1e-3;
+    p.grade_distance = 5e-3;
+    p.half = half;
+    const TetMesh m = meshPlate(p);
+    REQUIRE(m.region.size() == m.tets.size());
+    const double tops[] = {0, -1e-3, -3e-3, -4e-3};
+    double volume[3] = {0, 0, 0};
+    for (std::size_t t = 0; t < m.tets.size(); ++t) {
+      const auto& c = m.tets[t];
+      const int k = m.region[t];
+      REQUIRE((k >= 0 && k < 3));
+      for (int n : c) {
+        CHECK(m.nodes[static_cast<std::size_t>(n)].z() <= tops[k] + 1e-12);
+        CHECK(m.nodes[static_cast<std::size_t>(n)].z() >= tops[k + 1] - 1e-12);
+      }
+      volume[k] += tetVolume(m.nodes[c[0]], m.nodes[c[1]], m.nodes[c[2]], m.nodes[c[3]]);
+    }
+    const double area = 10e-3 * 8e-3 * (half ? 0.5 : 1.0);
+    CHECK(volume[0] == Approx(area * 1e-3).epsilon(1e-9));
+    CHECK(volume[1] == Approx(area * 2e-3).epsilon(1e-9));
+    CHECK(volume[2] == Approx(area * 1e-3).epsilon(1e-9));
+    CHECK(untiedParts(m).faces == 0);
+    std::vector<std::array<double, 3>> at;
+    for (const Vec3& x : m.nodes) at.push_back({x.x(), x.y(), x.z()});
+    std::sort(at.begin(), at.end());
+    CHECK(std::adjacent_find(at.begin(), at.end()) == at.end());
+  }
+  // the layers must make up the thickness
+  PlateSpec bad;
+  bad.size_x = bad.size_y = 10e-3;
+  bad.thickness = 3e-3;
+  bad.layers = {1e-3, 1e-3};
+  bad.fine_size = bad.coarse_size = 1e-3;
+  bad.grade_distance = 5e-3;
+  CHECK_THROWS_WITH(meshPlate(bad), Catch::Matchers::Contains("sum to its thickness"));
+}
+
 TEST_CASE("Gmsh meshing is deterministic: same spec, same mesh", "[unit][mesh]") {
   ProjectileSpec s = projectile(NoseShape::Ogive, true);
   s.mesh_size = 0.0015;

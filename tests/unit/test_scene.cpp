@@ -598,6 +598,69 @@ TEST_CASE("one body of two physical volumes of one .msh: each of its material, t
                   "\"core\", 7 \"jacket\"") != std::string::npos);
 }
 
+TEST_CASE("a plate of bonded layers: each of its material, tied, as thick as they are",
+          "[unit][scene]") {
+  // An RHA face bonded to an aluminium back: `layers` from the front face back, each with its
+  // thickness and material. Masses: 10 x 10 x 1 mm of RHA (7850 kg/m^3) 0.785 g, 10 x 10 x 2
+  // mm of Al_6061_T6 (2700 kg/m^3) 0.54 g (scenes/materials.toml).
+  const std::string head = "title = \"bilayer\"\n[simulation]\nend_time = 1e-6\n";
+  const auto plate = [&](const std::string& body_extra, const std::string& shape_extra) {
+    return head + "[[bodies]]\nname = \"plate\"\n" + body_extra +
+           "[bodies.shape]\ntype = \"plate\"\nsize_x = 10e-3\nsize_y = 10e-3\n"
+           "mesh_size = 1e-3\n" + shape_extra;
+  };
+  const std::string layers =
+      "layers = [{ thickness = 1e-3, material = \"RHA\" },\n"
+      "          { thickness = 2e-3, material = \"Al_6061_T6\" }]\n";
+  const Scene sc = loadScene(writeScene("bilayer.toml", plate("", layers)), {}, library());
+  REQUIRE(sc.bodies.size() == 1);
+  CHECK(std::get<PlateSpec>(sc.bodies[0].shape).thickness == Approx(3e-3).epsilon(1e-15));
+  std::ostringstream log;
+  const Model m = buildModel(sc, &log);
+  INFO(log.str());
+  for (std::size_t e = 0; e < m.elems.size(); ++e) {
+    double z = 0;
+    for (int n : m.elems.conn[e]) z += 0.25 * m.nodes.x[static_cast<std::size_t>(n)].z();
+    CHECK(m.materials[m.elems.material[e]].rho0 == (z > -1e-3 ? 7850.0 : 2700.0));
+  }
+  CHECK(log.str().find("body 'plate': ") != std::string::npos);
+  CHECK(log.str().find("10 x 10 x 3 mm, 1.325 g") != std::string::npos);
+  CHECK(log.str().find("\n    layer 1: ") != std::string::npos);
+  CHECK(log.str().find(" tets of RHA, 0.785 g\n") != std::string::npos);
+  CHECK(log.str().find("\n    layer 2: ") != std::string::npos);
+  CHECK(log.str().find(" tets of Al_6061_T6, 0.54 g\n") != std::string::npos);
+
+  struct Bad {
+    std::string scene;
+    int line;
+    const char* says;
+  };
+  const std::vector<Bad> bad = {
+      {plate("", layers + "thickness = 3e-3\n"), 13,
+       "a plate of layers is as thick as its layers together: leave 'thickness' out"},
+      {plate("material = \"RHA\"\n", layers), 6,
+       "a plate of layers takes each layer's material from its entry in 'layers': leave "
+       "'material' out"},
+      {plate("", "layers = []\n"), 11, "'layers' must list the plate's layers from its front"},
+      {plate("", "layers = [1e-3]\n"), 11, "each { thickness = m, material = \"id\" }"},
+      {plate("", "layers = [{ thickness = 1e-3 }]\n"), 11, "missing key 'material'"},
+      {plate("", "layers = [{ thickness = 1e-3, material = \"RHA\" },\n"
+                 "          { thickness = 2e-3, material = \"Al_6061\" }]\n"),
+       12, "unknown material 'Al_6061'"},
+      {plate("", "layers = [{ thickness = 1e-3, material = \"RHA\", bond = true }]\n"), 11,
+       "bond"},
+      {plate("", "layers = [{ thickness = -1e-3, material = \"RHA\" }]\n"), 11, "thickness"},
+  };
+  for (const Bad& b : bad) {
+    const std::string scene = writeScene("bilayer_bad.toml", b.scene);
+    const auto error = thrownBy([&] { loadScene(scene, {}, library()); });
+    REQUIRE(error);
+    INFO(error->what());
+    CHECK(error->line() == b.line);
+    CHECK(std::string(error->what()).find(b.says) != std::string::npos);
+  }
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
