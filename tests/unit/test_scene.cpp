@@ -659,6 +659,13 @@ TEST_CASE("a plate of bonded layers: each of its material, tied, as thick as the
     CHECK(error->line() == b.line);
     CHECK(std::string(error->what()).find(b.says) != std::string::npos);
   }
+  // the shipped template: RHA on aluminium
+  const Scene shipped =
+      loadScene(std::string(FESPH_SCENES_DIR) + "/bilayer_plate/scene.toml", {}, library());
+  const auto& spec = std::get<PlateSpec>(shipped.bodies.at(1).shape);
+  CHECK(spec.layers == std::vector<double>{2e-3, 3e-3});
+  CHECK(spec.thickness == Approx(5e-3).epsilon(1e-15));
+  CHECK(shipped.bodies[1].volume_materials == std::vector<std::string>{"RHA", "Al_6061_T6"});
 }
 
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
