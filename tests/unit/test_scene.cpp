@@ -425,17 +425,37 @@ TEST_CASE("the meshing log gives each body's size and mass, and warns of an .msh
         std::string::npos);
 }
 
+// A scene text loadScene refuses at `line`, saying `says`.
+struct Refused {
+  std::string scene;
+  int line;
+  const char* says;
+};
+
+void checkRefused(const std::vector<Refused>& cases, const std::string& file) {
+  for (const Refused& c : cases) {
+    const std::string scene = writeScene(file, c.scene);
+    const auto error = thrownBy([&] { loadScene(scene, {}, library()); });
+    REQUIRE(error);
+    INFO(error->what());
+    CHECK(error->line() == c.line);
+    CHECK(std::string(error->what()).find(c.says) != std::string::npos);
+  }
+}
+
+// Two tets sharing a face (z = 0), physical volumes 5 "core" (above) and 7 "jacket" (below).
+constexpr const char* kCoreAndJacket =
+    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n3 5 \"core\"\n3 7 \"jacket\"\n"
+    "$EndPhysicalNames\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n$EndNodes\n"
+    "$Elements\n2\n1 4 2 5 1 1 2 3 4\n2 4 2 7 1 1 3 2 5\n$EndElements\n";
+
 TEST_CASE("two bodies of one .msh: each its physical volume, of its own material",
           "[unit][scene]") {
   // Two tets sharing a face (z = 0), physical volumes 5 "core" and 7 "jacket": a core of
   // steel and a jacket of copper, touching, from the one file.
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
-  std::ofstream(dir / "two.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n"
-                                    "3 5 \"core\"\n3 7 \"jacket\"\n$EndPhysicalNames\n$Nodes\n5\n"
-                                    "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n$EndNodes\n"
-                                    "$Elements\n2\n1 4 2 5 1 1 2 3 4\n2 4 2 7 1 1 3 2 5\n"
-                                    "$EndElements\n";
+  std::ofstream(dir / "two.msh") << kCoreAndJacket;
   const auto body = [](const std::string& name, const std::string& material,
                        const std::string& physical) {
     return "[[bodies]]\nname = \"" + name + "\"\nmaterial = \"" + material +
@@ -490,11 +510,7 @@ TEST_CASE("one body of two physical volumes of one .msh: each of its material, t
   // material; the volumes keep the nodes of the face they share (tied, not in contact).
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
-  std::ofstream(dir / "tied.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n"
-                                     "3 5 \"core\"\n3 7 \"jacket\"\n$EndPhysicalNames\n$Nodes\n5\n"
-                                     "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0 0 -1\n$EndNodes\n"
-                                     "$Elements\n2\n1 4 2 5 1 1 2 3 4\n2 4 2 7 1 1 3 2 5\n"
-                                     "$EndElements\n";
+  std::ofstream(dir / "tied.msh") << kCoreAndJacket;
   const std::string head = "title = \"bullet\"\n[simulation]\nend_time = 1e-6\n";
   const auto bullet = [&](const std::string& materials, const std::string& shape_extra = "") {
     return head + "[[bodies]]\nname = \"bullet\"\n" + materials +
@@ -534,12 +550,7 @@ TEST_CASE("one body of two physical volumes of one .msh: each of its material, t
   // 'materials' (line 13), an unknown material (line 6, at its value), no volume, a value
   // that is no id, a shape that is not a file's, and a volume of the file left without a
   // material (the body's line 4).
-  struct Bad {
-    std::string scene;
-    int line;
-    const char* says;
-  };
-  const std::vector<Bad> bad = {
+  const std::vector<Refused> bad = {
       {bullet("material = \"steel_4340\"\nmaterials = { core = \"steel_4340\" }"), 7,
        "a body has 'material' (one for all of it) or 'materials' (one per physical volume of "
        "its msh file), not both"},
@@ -556,14 +567,7 @@ TEST_CASE("one body of two physical volumes of one .msh: each of its material, t
               "mesh_size = 2e-3\n",
        6, "this body's shape is a projectile"},
   };
-  for (const Bad& b : bad) {
-    const std::string scene = writeScene("tied_bad.toml", b.scene);
-    const auto error = thrownBy([&] { loadScene(scene, {}, library()); });
-    REQUIRE(error);
-    INFO(error->what());
-    CHECK(error->line() == b.line);
-    CHECK(std::string(error->what()).find(b.says) != std::string::npos);
-  }
+  checkRefused(bad, "tied_bad.toml");
   // The jacket meshed apart, on copies of the shared face's nodes: the two would pass
   // through each other (a body has no contact with itself), refused at the body's line.
   std::ofstream(dir / "untied.msh")
@@ -630,12 +634,7 @@ TEST_CASE("a plate of bonded layers: each of its material, tied, as thick as the
   CHECK(log.str().find("\n    layer 2: ") != std::string::npos);
   CHECK(log.str().find(" tets of Al_6061_T6, 0.54 g\n") != std::string::npos);
 
-  struct Bad {
-    std::string scene;
-    int line;
-    const char* says;
-  };
-  const std::vector<Bad> bad = {
+  const std::vector<Refused> bad = {
       {plate("", layers + "thickness = 3e-3\n"), 13,
        "a plate of layers is as thick as its layers together: leave 'thickness' out"},
       {plate("material = \"RHA\"\n", layers), 6,
@@ -651,14 +650,7 @@ TEST_CASE("a plate of bonded layers: each of its material, tied, as thick as the
        "bond"},
       {plate("", "layers = [{ thickness = -1e-3, material = \"RHA\" }]\n"), 11, "thickness"},
   };
-  for (const Bad& b : bad) {
-    const std::string scene = writeScene("bilayer_bad.toml", b.scene);
-    const auto error = thrownBy([&] { loadScene(scene, {}, library()); });
-    REQUIRE(error);
-    INFO(error->what());
-    CHECK(error->line() == b.line);
-    CHECK(std::string(error->what()).find(b.says) != std::string::npos);
-  }
+  checkRefused(bad, "bilayer_bad.toml");
   // the shipped template: RHA on aluminium
   const Scene shipped =
       loadScene(std::string(FESPH_SCENES_DIR) + "/bilayer_plate/scene.toml", {}, library());
