@@ -42,8 +42,8 @@ TetMesh meshBody(const SceneBody& b, const std::string& scene_path) {
   }
 }
 
-// An msh body's parts that touch without sharing nodes (volumes meshed apart) would pass
-// through each other, a body having no contact with itself: refused at the body's line.
+// An msh body's parts that touch or overlap without sharing nodes (volumes meshed apart) would
+// pass through each other, a body having no contact with itself: refused at the body's line.
 void checkTied(const Scene& sc, const SceneBody& b, const TetMesh& mesh) {
   const UntiedContact untied = untiedParts(mesh);
   if (untied.faces == 0) return;
@@ -146,9 +146,9 @@ std::string massText(double kg) {
 }
 
 // The meshing log's line for a body: its mesh, its size and mass (where a unit slip shows),
-// its quality, and for a body of several physical volumes each volume's tets, material and
-// mass; the warning for an .msh body of a size no body of this tool has. `materials`: as
-// addBody's.
+// its quality, and for a body of several volumes (physical volumes of a file, a plate's
+// layers) each volume's tets, material and mass; the warning for an .msh body of a size no
+// body of this tool has. `materials`: as addBody's.
 void describeBody(const Scene& sc, const SceneBody& b, const TetMesh& mesh,
                   const std::vector<int>& materials, std::ostream& log) {
   const MeshQuality q = meshQuality(mesh);
