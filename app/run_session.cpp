@@ -230,6 +230,7 @@ void RunSession::openWriters(bool resume, const RunProgress& saved) {
     options.fields = scene_.output.fields;
     options.append = resume;
     options.keep = static_cast<std::size_t>(saved.series_outputs);
+    options.material_names = scene_.material_ids;
     series_ = std::make_unique<SeriesWriter>(dir, options);
   } catch (const std::invalid_argument& e) {
     throw InputError(scene_.path, 0, 0, std::string("[output] fields: ") + e.what());

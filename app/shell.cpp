@@ -727,7 +727,9 @@ std::string Workbench::currentState(RunInfo& info, double& time) {
   if (!scene_path_.empty()) {
     RunSession& s = session();
     const std::string dir = (fs::path(s.folder()) / "shell" / "state").string();
-    SeriesWriter(dir).write(s.model(), s.model().time);
+    SeriesOptions options;
+    options.material_names = s.scene().material_ids;
+    SeriesWriter(dir, options).write(s.model(), s.model().time);
     std::ofstream(fs::path(dir) / "scene.toml") << s.scene().text;
     info = infoOf(s.model(), s.scene().half);
     time = s.model().time;
@@ -922,7 +924,9 @@ void Workbench::exportCmd(const std::vector<std::string>& a) {
     RunSession& s = session();
     const std::string dir = a.size() == 2 ? a[1]
                                           : (fs::path(s.folder()) / "export" / timeDir(s.model().time)).string();
-    SeriesWriter(dir).write(s.model(), s.model().time);
+    SeriesOptions options;
+    options.material_names = s.scene().material_ids;
+    SeriesWriter(dir, options).write(s.model(), s.model().time);
     std::ofstream(fs::path(dir) / "scene.toml") << s.scene().text;
     std::printf("%s/elements.pvd, %s/particles.pvd (t = %.6g s)\n", dir.c_str(), dir.c_str(),
                 s.model().time);

@@ -17,6 +17,7 @@
 #include <vtkCoordinate.h>
 #include <vtkDataSetSurfaceFilter.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkIdList.h>
 #include <vtkLookupTable.h>
@@ -32,10 +33,12 @@
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkSphereSource.h>
+#include <vtkStringArray.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkVariant.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -123,6 +126,7 @@ std::string fieldTitle(const std::string& field, double* scale) {
   if (field == "plastic_strain_rate") return "Plastic strain rate (1/s)";
   if (field == "temperature") return "Temperature (K)";
   if (field == "density") return "Density (kg/m\u00b3)";
+  if (field == "material") return "Material";
   if (field == "pressure" || field == "von_mises") {
     *scale = 1e-6;
     return field == "pressure" ? "Pressure (MPa)" : "von Mises stress (MPa)";
@@ -229,7 +233,57 @@ int niceRange(double& lo, double& hi) {
   return static_cast<int>(std::lround((hi - lo) / step)) + 1;
 }
 
+// Categories (a lookup table of named values, fieldColours' for "material"): a swatch and its
+// name for each, where the scalar bar goes. VTK's scalar bar squeezes such names to a few
+// pixels beside its swatches.
+void addLegend(Page& page, vtkLookupTable* lut, const std::string& title) {
+  const double x0 = (kSceneViewport[2] + 0.015) * page.width, top = 0.86 * page.height;
+  const double swatch = page.height / 30.0, gap = 0.5 * swatch;
+  auto heading = text(title, std::max(10, page.height / 50), true);
+  heading->SetPosition(x0, top);
+  page.overlay->AddActor2D(heading);
+  // Names as large as the scalar bar's labels, smaller where the longest would run off the
+  // page (a character is about 0.6 of the font size wide).
+  std::size_t longest = 1;
+  for (vtkIdType k = 0; k < lut->GetNumberOfAnnotatedValues(); ++k)
+    longest = std::max(longest, lut->GetAnnotation(k).size());
+  const double room = 0.99 * page.width - (x0 + 1.4 * swatch);
+  const int font = std::max(
+      7, std::min(page.height / 60, static_cast<int>(room / (0.6 * static_cast<double>(longest)))));
+  for (vtkIdType k = 0; k < lut->GetNumberOfAnnotatedValues(); ++k) {
+    const double y = top - (k + 1) * (swatch + gap);
+    vtkNew<vtkPoints> pts;
+    pts->InsertNextPoint(x0, y, 0);
+    pts->InsertNextPoint(x0 + swatch, y, 0);
+    pts->InsertNextPoint(x0 + swatch, y + swatch, 0);
+    pts->InsertNextPoint(x0, y + swatch, 0);
+    vtkNew<vtkCellArray> quad;
+    const vtkIdType ids[4] = {0, 1, 2, 3};
+    quad->InsertNextCell(4, ids);
+    vtkNew<vtkPolyData> square;
+    square->SetPoints(pts);
+    square->SetPolys(quad);
+    vtkNew<vtkCoordinate> display;
+    display->SetCoordinateSystemToDisplay();
+    vtkNew<vtkPolyDataMapper2D> mapper;
+    mapper->SetInputData(square);
+    mapper->SetTransformCoordinate(display);
+    vtkNew<vtkActor2D> actor;
+    actor->SetMapper(mapper);
+    double rgba[4];
+    lut->GetIndexedColor(k, rgba);
+    actor->GetProperty()->SetColor(rgba[0], rgba[1], rgba[2]);
+    page.overlay->AddActor2D(actor);
+    auto name = text(lut->GetAnnotation(k), font, false);
+    name->GetTextProperty()->SetVerticalJustificationToCentered();
+    name->SetPosition(x0 + 1.4 * swatch, y + 0.5 * swatch);
+    page.overlay->AddActor2D(name);
+  }
+}
+
 void addScalarBar(Page& page, vtkScalarsToColors* lut, const std::string& title, int labels) {
+  if (auto* table = vtkLookupTable::SafeDownCast(lut); table && table->GetIndexedLookup())
+    return addLegend(page, table, title);
   vtkNew<vtkScalarBarActor> bar;
   bar->SetLookupTable(lut);
   bar->SetTitle(title.c_str());
@@ -282,6 +336,30 @@ vtkSmartPointer<vtkLookupTable> viridis(double lo, double hi) {
                        cp[i][2] + f * (cp[i + 1][2] - cp[i][2]), 1.0);
   }
   lut->SetTableRange(lo, hi);
+  return lut;
+}
+
+vtkSmartPointer<vtkLookupTable> fieldColours(const std::string& field, double lo, double hi,
+                                             vtkDataObject* data) {
+  auto* names = field == "material" && data
+                    ? vtkStringArray::SafeDownCast(
+                          data->GetFieldData()->GetAbstractArray("material_names"))
+                    : nullptr;
+  if (!names || names->GetNumberOfValues() == 0) return viridis(lo, hi);
+  // One colour per material, spread over viridis, each named in the scalar bar.
+  const vtkIdType n = names->GetNumberOfValues();
+  const vtkSmartPointer<vtkLookupTable> spread = viridis(0, std::max<vtkIdType>(1, n - 1));
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  lut->SetNumberOfTableValues(n);
+  for (vtkIdType k = 0; k < n; ++k) {
+    double rgb[3];
+    spread->GetColor(static_cast<double>(k), rgb);
+    lut->SetTableValue(k, rgb[0], rgb[1], rgb[2], 1.0);
+  }
+  lut->SetTableRange(0, std::max<vtkIdType>(1, n - 1));
+  lut->IndexedLookupOn();
+  for (vtkIdType k = 0; k < n; ++k)
+    lut->SetAnnotation(vtkVariant(static_cast<double>(k)), names->GetValue(k));
   return lut;
 }
 
@@ -558,7 +636,7 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
   if (options.field == "damage") lo = 0, hi = 1;
   if (options.field == "plastic_strain") lo = 0;
   const int labels = niceRange(lo, hi);
-  const vtkSmartPointer<vtkLookupTable> lut = viridis(lo, hi);
+  const vtkSmartPointer<vtkLookupTable> lut = fieldColours(options.field, lo, hi, grid);
 
   std::vector<PlateImages> result;
   fs::create_directories(out_dir);

@@ -13,6 +13,7 @@
 #include <vector>
 
 class vtkActor;
+class vtkDataObject;
 class vtkLookupTable;
 class vtkPolyData;
 class vtkPolyDataMapper;
@@ -118,6 +119,10 @@ int niceRange(double& lo, double& hi);
 void addScalarBar(Page& page, vtkScalarsToColors* lut, const std::string& title, int labels);
 /// Viridis lookup table over [lo, hi].
 vtkSmartPointer<vtkLookupTable> viridis(double lo, double hi);
+/// The colours of `field`: viridis over [lo, hi]; for "material", one colour per entry of the
+/// series' field data `material_names` (of `data`), named in the scalar bar.
+vtkSmartPointer<vtkLookupTable> fieldColours(const std::string& field, double lo, double hi,
+                                             vtkDataObject* data);
 /// Colour of body `b` for particles (a categorical palette distinct from viridis).
 void bodyColour(int b, double rgb[3]);
 /// Particles `keep` selects drawn as spheres of their "radius": coloured by `field` through

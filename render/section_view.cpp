@@ -69,7 +69,7 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
   double lo = range[0] * unit, hi = range[1] * unit;
   if (field == "plastic_strain") lo = 0;
   const int labels = niceRange(lo, hi);
-  const vtkSmartPointer<vtkLookupTable> lut = viridis(lo, hi);
+  const vtkSmartPointer<vtkLookupTable> lut = fieldColours(field, lo, hi, step.elements);
 
   // Particles whose centre lies within 1.5 radii of the plane.
   std::vector<vtkIdType> keep;

@@ -126,13 +126,6 @@ void addTimeValue(vtkDataObject& data, double time) {
   data.GetFieldData()->AddArray(t);
 }
 
-// What the values of the "material" arrays stand for: entry k names material k.
-void addMaterialNames(vtkDataObject& data, const Model& model) {
-  vtkNew<vtkStringArray> names;
-  names->SetName("material_names");
-  for (const Material& m : model.materials) names->InsertNextValue(m.name);
-  data.GetFieldData()->AddArray(names);
-}
 
 std::string indexedName(const char* stem, std::size_t index, const char* extension) {
   char buf[64];
@@ -224,8 +217,19 @@ const std::vector<std::string>& SeriesWriter::elementFields() { return outputFie
 SeriesWriter::SeriesWriter(fs::path folder, SeriesOptions options)
     : folder_(createdFolder(std::move(folder))),
       fields_(checkedFields(std::move(options.fields))),
+      material_names_(std::move(options.material_names)),
       elements_(folder_ / "elements.pvd", options.append, options.keep),
       particles_(folder_ / "particles.pvd", options.append, options.keep) {}
+
+// What the values of the "material" arrays stand for: entry k names material k.
+void SeriesWriter::addMaterialNames(vtkDataObject& data, const Model& model) const {
+  vtkNew<vtkStringArray> names;
+  names->SetName("material_names");
+  for (std::size_t k = 0; k < model.materials.size(); ++k)
+    names->InsertNextValue(k < material_names_.size() ? material_names_[k]
+                                                      : model.materials[k].name);
+  data.GetFieldData()->AddArray(names);
+}
 
 bool SeriesWriter::wants(const std::string& field) const {
   // What fesph's own images read (plates: body and damage; section: plastic strain) is written

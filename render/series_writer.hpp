@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+class vtkDataObject;
+
 namespace fesph {
 
 /// A ParaView .pvd collection of (time, file) entries. The .pvd is rewritten after every
@@ -48,6 +50,9 @@ struct SeriesOptions {
   bool append = false;
   /// With `append`: keep only the first `keep` steps of the series found.
   std::size_t keep = static_cast<std::size_t>(-1);
+  /// What the `material` arrays' numbers stand for (the scene's material ids, in the model's
+  /// order), written as the field data `material_names`; empty: each Material::name.
+  std::vector<std::string> material_names;
 };
 
 /// Writes elements_NNNNNN.vtu + elements.pvd and particles_NNNNNN.vtp + particles.pvd (one
@@ -75,8 +80,11 @@ class SeriesWriter {
   bool wants(const std::string& field) const;
   void writeParticles(const Model& model, double time);
 
+  void addMaterialNames(vtkDataObject& data, const Model& model) const;
+
   std::filesystem::path folder_;
   std::vector<std::string> fields_;
+  std::vector<std::string> material_names_;
   PvdCollection elements_;
   PvdCollection particles_;
 };

@@ -445,3 +445,42 @@ TEST_CASE("the section view frames every plate along the flight", "[unit][render
   CHECK(img.count(solid, 17, 48, 18, 540) == 0);
   CHECK(img.count(solid, 670, 48, 671, 540) == 0);
 }
+
+TEST_CASE("the section view colours each material apart and names it", "[unit][render]") {
+  // Half a 40 mm plate whose x > 0 half is of a second material, written as a run writes it
+  // (the scene's ids name the materials). x is up in the section: the second material (the
+  // map's top, yellow) above the centre, the first (its bottom, purple) below; the legend
+  // holds one swatch of each, in those colours, with its name beside it.
+  unsetenv("DISPLAY");
+  TempFolder dir("section_materials");
+  RunSpec spec;
+  spec.half = true;
+  spec.plates.push_back({"plate", Vec3(-20 * mm, 0, -2 * mm), Vec3(40 * mm, 20 * mm, 2 * mm)});
+  Model model = buildRun(spec);
+  shapePlates(model, spec);
+  model.materials.push_back(elasticMaterial());
+  for (std::size_t e = 0; e < model.elems.size(); ++e) {
+    double x = 0;
+    for (int n : model.elems.conn[e]) x += 0.25 * model.nodes.x0[static_cast<std::size_t>(n)].x();
+    model.elems.material[e] = x > 0 ? 1 : 0;
+  }
+  SeriesOptions series;
+  series.material_names = {"steel_4340", "OFHC_copper"};
+  SeriesWriter(dir.path, series).write(model, 10e-6);
+  writeScene(dir.path, spec);
+  const Image img = readPng(renderSectionView(dir.path.string(), -1, options800x600("material"),
+                                              (dir.path / "section.png").string()));
+  const Centre c = sceneCentre(img);
+  CHECK(brightness(img.at(c.x, c.y + 100)) > 450);
+  CHECK(brightness(img.at(c.x, c.y - 100)) < 300);
+  // legend (render_detail::addLegend): swatches of 20 px from (684, 486) down, 30 px apart
+  const unsigned char* first = img.at(694, 496);
+  const unsigned char* second = img.at(694, 466);
+  CHECK(brightness(first) < 300);
+  CHECK(brightness(second) > 450);
+  CHECK(colourDistance(first, img.at(c.x, c.y - 100)) < 40);
+  CHECK(colourDistance(second, img.at(c.x, c.y + 100)) < 40);
+  const auto ink = [](const unsigned char* p) { return brightness(p) < 300; };
+  CHECK(img.count(ink, 712, 490, 799, 502) > 20);  // "steel_4340"
+  CHECK(img.count(ink, 712, 460, 799, 472) > 20);  // "OFHC_copper"
+}

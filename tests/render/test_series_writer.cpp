@@ -292,7 +292,9 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
   m.particles.id = {7, 3, 5};
   m.particles.tie[1].face = {1, 2, 4};
   {
-    SeriesWriter w(dir.path);
+    SeriesOptions options;  // the scene's ids name the materials (the run's way)
+    options.material_names = {"steel_4340", "OFHC_copper"};
+    SeriesWriter w(dir.path, options);
     w.write(m, 0.0);
     m.particles.x[0].x() += 1.0 / 3.0;  // the second file holds the moved state
     w.write(m, 1.5e-6);
@@ -349,7 +351,8 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
       vtkStringArray::SafeDownCast(poly->GetFieldData()->GetAbstractArray("material_names"));
   REQUIRE(names != nullptr);
   REQUIRE(names->GetNumberOfValues() == 2);
-  CHECK(names->GetValue(1) == "copper jacket");
+  CHECK(names->GetValue(0) == "steel_4340");
+  CHECK(names->GetValue(1) == "OFHC_copper");
 }
 
 TEST_CASE("SeriesWriter writes only the requested fields", "[unit][output]") {
