@@ -346,7 +346,7 @@ vtkSmartPointer<vtkLookupTable> fieldColours(const std::string& field, double lo
                           data->GetFieldData()->GetAbstractArray("material_names"))
                     : nullptr;
   if (!names || names->GetNumberOfValues() == 0) return viridis(lo, hi);
-  // One colour per material, spread over viridis, each named in the scalar bar.
+  // One colour per material, spread over viridis, each named in the legend (addScalarBar).
   const vtkIdType n = names->GetNumberOfValues();
   const vtkSmartPointer<vtkLookupTable> spread = viridis(0, std::max<vtkIdType>(1, n - 1));
   auto lut = vtkSmartPointer<vtkLookupTable>::New();

@@ -120,7 +120,7 @@ void addScalarBar(Page& page, vtkScalarsToColors* lut, const std::string& title,
 /// Viridis lookup table over [lo, hi].
 vtkSmartPointer<vtkLookupTable> viridis(double lo, double hi);
 /// The colours of `field`: viridis over [lo, hi]; for "material", one colour per entry of the
-/// series' field data `material_names` (of `data`), named in the scalar bar.
+/// series' field data `material_names` (of `data`), named in a legend (addScalarBar).
 vtkSmartPointer<vtkLookupTable> fieldColours(const std::string& field, double lo, double hi,
                                              vtkDataObject* data);
 /// Colour of body `b` for particles (a categorical palette distinct from viridis).
