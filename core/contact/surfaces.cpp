@@ -2,6 +2,7 @@
 #include "core/contact/surfaces.hpp"
 
 #include "core/common/error.hpp"
+#include "core/mesh/tet_faces.hpp"
 
 #include <algorithm>
 #include <string>
@@ -77,21 +78,8 @@ void buildSurfaces(Model& model) {
   Surfaces& s = model.surfaces;
   s = Surfaces{};
 
-  // (sorted key, element, local face), sorted: equal keys become neighbours, in element order.
-  struct Entry {
-    std::array<int, 3> key;
-    int elem, k;
-  };
-  std::vector<Entry> entries;
-  entries.reserve(4 * el.size());
-  for (std::size_t e = 0; e < el.size(); ++e)
-    for (int k = 0; k < 4; ++k) {
-      const auto f = tetFace(el.conn[e], k);
-      entries.push_back({sortedKey(f[0], f[1], f[2]), static_cast<int>(e), k});
-    }
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return a.key != b.key ? a.key < b.key : a.elem < b.elem;
-  });
+  // Equal keys are neighbours, in element order.
+  const std::vector<TetFaceEntry> entries = sortedTetFaces(el.conn);
 
   s.elem_faces.assign(el.size(), {-1, -1, -1, -1});
   for (std::size_t i = 0; i < entries.size();) {
@@ -107,8 +95,8 @@ void buildSurfaces(Model& model) {
     rec.key = entries[i].key;
     const int f = static_cast<int>(s.table.size());
     for (std::size_t m = i; m < j; ++m) {
-      rec.elem[m - i] = entries[m].elem;
-      s.elem_faces[entries[m].elem][entries[m].k] = f;
+      rec.elem[m - i] = entries[m].tet;
+      s.elem_faces[entries[m].tet][entries[m].k] = f;
     }
     s.table.push_back(rec);
     i = j;

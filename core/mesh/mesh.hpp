@@ -16,8 +16,8 @@ namespace fesph {
 struct TetMesh {
   std::vector<Vec3> nodes;                ///< m
   std::vector<std::array<int, 4>> tets;   ///< node ids
-  /// Per tet, which of the volumes it was read as (readMsh of several volumes: each of its
-  /// own material); empty: one volume.
+  /// Per tet, which of the mesh's volumes it is in (a physical volume of readMsh's several,
+  /// a plate's layer: each of its own material); empty: one volume.
   std::vector<int> region;
 };
 

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "core/mesh/untied_parts.hpp"
 
+#include "core/mesh/tet_faces.hpp"
+
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <unordered_map>
 #include <vector>
@@ -11,30 +12,13 @@ namespace fesph {
 
 namespace {
 
-// A face as its sorted node ids, with the tet it belongs to.
-struct Face {
-  std::array<int, 3> nodes;
-  int tet;
-};
-
-// Faces that belong to one tet only: the regions' boundaries.
-std::vector<Face> boundaryFaces(const TetMesh& mesh) {
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  std::vector<Face> faces;
-  faces.reserve(4 * mesh.tets.size());
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
-    for (const auto& f : kFace) {
-      std::array<int, 3> n = {mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]};
-      std::sort(n.begin(), n.end());
-      faces.push_back({n, static_cast<int>(t)});
-    }
-  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) {
-    return a.nodes != b.nodes ? a.nodes < b.nodes : a.tet < b.tet;
-  });
-  std::vector<Face> once;
+// Faces that belong to one tet only: the parts' boundaries.
+std::vector<TetFaceEntry> boundaryFaces(const TetMesh& mesh) {
+  const std::vector<TetFaceEntry> faces = sortedTetFaces(mesh.tets);
+  std::vector<TetFaceEntry> once;
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i + 1;
-    while (j < faces.size() && faces[j].nodes == faces[i].nodes) ++j;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
     if (j == i + 1) once.push_back(faces[i]);
     i = j;
   }
@@ -56,7 +40,7 @@ double insideness(const TetMesh& mesh, int t, const Vec3& p) {
 UntiedContact untiedParts(const TetMesh& mesh) {
   UntiedContact found;
   if (mesh.tets.empty()) return found;
-  const std::vector<Face> boundary = boundaryFaces(mesh);
+  const std::vector<TetFaceEntry> boundary = boundaryFaces(mesh);
   // a grid of cells of the mean edge, each listing the tets whose box meets it
   double edge = 0;
   for (const auto& c : mesh.tets) edge += (mesh.nodes[c[0]] - mesh.nodes[c[1]]).norm();
@@ -74,9 +58,9 @@ UntiedContact untiedParts(const TetMesh& mesh) {
         for (long long k = index(lo.z()); k <= index(hi.z()); ++k)
           grid[key(i, j, k)].push_back(static_cast<int>(t));
   }
-  for (const Face& f : boundary) {
+  for (const TetFaceEntry& f : boundary) {
     const Vec3 centre =
-        (mesh.nodes[f.nodes[0]] + mesh.nodes[f.nodes[1]] + mesh.nodes[f.nodes[2]]) / 3.0;
+        (mesh.nodes[f.key[0]] + mesh.nodes[f.key[1]] + mesh.nodes[f.key[2]]) / 3.0;
     const auto it = grid.find(key(index(centre.x()), index(centre.y()), index(centre.z())));
     if (it == grid.end()) continue;  // (a hash collision only adds candidates)
     for (int t : it->second) {

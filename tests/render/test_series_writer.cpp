@@ -146,6 +146,16 @@ std::vector<std::pair<std::string, std::string>> pvdEntries(const fs::path& pvd)
   return out;
 }
 
+/// The field data `material_names` of a series file (what its material numbers stand for).
+std::vector<std::string> materialNames(vtkDataObject& data) {
+  auto* names =
+      vtkStringArray::SafeDownCast(data.GetFieldData()->GetAbstractArray("material_names"));
+  REQUIRE(names != nullptr);
+  std::vector<std::string> out;
+  for (vtkIdType k = 0; k < names->GetNumberOfValues(); ++k) out.push_back(names->GetValue(k));
+  return out;
+}
+
 bool hasTemporaryFiles(const fs::path& folder) {
   for (const auto& f : fs::directory_iterator(folder))
     if (f.path().extension() == ".tmp") return true;
@@ -204,12 +214,7 @@ TEST_CASE("SeriesWriter writes live tets with exact values and a .pvd", "[unit][
     CHECK(cd->GetArray("material")->GetDataType() == VTK_INT);
     CHECK(cd->GetArray("element_id")->GetDataType() == VTK_TYPE_INT64);
     // what the material numbers stand for
-    auto* names =
-        vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("material_names"));
-    REQUIRE(names != nullptr);
-    REQUIRE(names->GetNumberOfValues() == 2);
-    CHECK(names->GetValue(0) == "steel core");
-    CHECK(names->GetValue(1) == "copper jacket");
+    CHECK(materialNames(*g) == std::vector<std::string>{"steel core", "copper jacket"});
     // VTK and ParaView read a 6-component array as a symmetric tensor in the order XX YY ZZ
     // XY YZ XZ (vtkMath::TensorFromSymmetricTensor); the names must say the same
     const std::vector<std::string> tensor = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
@@ -347,12 +352,7 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
   }
   CHECK(value("parent_element", 1) == -1);
   CHECK(value("material", 1) == 1);
-  auto* names =
-      vtkStringArray::SafeDownCast(poly->GetFieldData()->GetAbstractArray("material_names"));
-  REQUIRE(names != nullptr);
-  REQUIRE(names->GetNumberOfValues() == 2);
-  CHECK(names->GetValue(0) == "steel_4340");
-  CHECK(names->GetValue(1) == "OFHC_copper");
+  CHECK(materialNames(*poly) == std::vector<std::string>{"steel_4340", "OFHC_copper"});
 }
 
 TEST_CASE("SeriesWriter writes only the requested fields", "[unit][output]") {
