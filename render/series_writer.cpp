@@ -383,9 +383,11 @@ void SeriesWriter::writeParticles(const Model& model, double time) {
   scalar("radius", [&](vtkIdType i) { return particleRadius(pa, static_cast<std::size_t>(i)); });
   scalar("mass", [&](vtkIdType i) { return pa.m[i]; });
   scalar("density", [&](vtkIdType i) { return pa.rho[i]; });
-  scalar("plastic_strain", [&](vtkIdType i) { return pa.state[i].eps_p; });
-  scalar("damage", [&](vtkIdType i) { return pa.state[i].damage; });
   scalar("pressure", [&](vtkIdType i) { return pa.state[i].p; });
+  scalar("von_mises", [&](vtkIdType i) { return vonMises(pa.state[i].s); });
+  scalar("plastic_strain", [&](vtkIdType i) { return pa.state[i].eps_p; });
+  scalar("plastic_strain_rate", [&](vtkIdType i) { return pa.state[i].eps_rate; });
+  scalar("damage", [&](vtkIdType i) { return pa.state[i].damage; });
   scalar("temperature", [&](vtkIdType i) { return pa.state[i].T; });
   scalar("tied", [&](vtkIdType i) { return pa.tie[i].active() ? 1.0 : 0.0; });
   vtkNew<vtkDoubleArray> vel = doubleArray("velocity", 3, n);

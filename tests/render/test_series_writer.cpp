@@ -288,6 +288,8 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
     st.damage = 0.1 * k + 1.0 / 9.0;
     st.p = -1e8 * (k + 1) / 3.0;
     st.T = 300.0 + k / 11.0;
+    st.s = Sym{1e8 * (k + 1) / 7.0, -2e7 / (k + 2), 3e6, 4e7 / 3.0, -k * 1e6 / 9.0, 5e5};
+    st.eps_rate = 1e4 * (k + 1) / 3.0;
     const double V = (1.0 + k / 3.0) * 1e-9;
     appendParticle(m.particles, Vec3(0.5 + k, 1.0 / (k + 3.0), -0.25 * k),
                    Vec3(100.0 / (k + 1), -7.0 * k, 1.0 / 3.0), 7.8e-6 * (1 + k / 5.0), V,
@@ -343,6 +345,9 @@ TEST_CASE("SeriesWriter writes every particle with exact values and a .pvd", "[u
     CHECK(value("plastic_strain", i) == pa.state[i].eps_p);
     CHECK(value("damage", i) == pa.state[i].damage);
     CHECK(value("pressure", i) == pa.state[i].p);
+    // the elements' fields all have theirs: a field drawn on both means the same
+    CHECK(value("von_mises", i) == vonMises(pa.state[i].s));
+    CHECK(value("plastic_strain_rate", i) == pa.state[i].eps_rate);
     CHECK(value("temperature", i) == pa.state[i].T);
     CHECK(value("tied", i) == (i == 1 ? 1.0 : 0.0));
     CHECK(value("body", i) == pa.body[i]);
