@@ -53,9 +53,8 @@ void renderRun(const std::string& run_dir, double time, const std::string& field
       plates.empty() ? render_detail::readRunStep(run_dir, time).time : plates.front().time;
   std::printf("%s", nearestOutputNote(time, drawn, "drawn").c_str());
   if (plates.empty())  // the section, velocity plot and debris table are drawn all the same
-    std::printf("  plates: none drawn, as no body but a projectile has elements there (plate "
-                "images and holes are drawn from a plate's elements: a plate made of particles "
-                "has none)\n");
+    std::printf("  plates: none drawn, as no body but a projectile has elements or particles "
+                "there\n");
   std::vector<PlateHoles> holes;
   for (const PlateImages& p : plates) {
     holes.push_back(p.holes);

@@ -426,8 +426,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
     const fs::path copied = out / ("run" + std::to_string(i + 1));
     const auto holes = readCsv(copied / "holes.csv");
     if (!plates_drawn)
-      md << "\nNo plate images: no plate of this run has elements (plate images and holes are "
-            "drawn from a plate's elements; a plate made of particles has none).\n";
+      md << "\nNo plate images: no plate of this run has elements or particles at its last "
+            "output.\n";
     else if (holes.empty())
       md << "\nNo through-holes.\n";
     else

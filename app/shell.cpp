@@ -709,9 +709,7 @@ void Workbench::render(const std::vector<std::string>& a) {
   const std::vector<PlateImages> images = renderPlateImages(source, -1, o, out, {body});
   if (images.empty())
     throw RunError("plate '" + info.bodies[static_cast<std::size_t>(body)].name +
-                   "' has no elements at t = " + shortestText(time) +
-                   " s: plate images are drawn from a plate's elements (one made of particles "
-                   "has none)");
+                   "' has neither elements nor particles at t = " + shortestText(time) + " s");
   for (const PlateImages& p : images) {
     std::printf("%s\n", (rear ? p.rear_png : p.front_png).c_str());
     std::printf("  plate '%s' at t = %.6g s: %zu through-hole%s", p.plate.c_str(), p.time,

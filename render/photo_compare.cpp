@@ -15,6 +15,7 @@
 #include <vtkImageReader2Factory.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
+#include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -131,15 +132,16 @@ SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int b
     tets.push_back({static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)),
                     static_cast<int>(ids->GetId(2)), static_cast<int>(ids->GetId(3))});
   }
-  if (tets.empty())
-    throw RunError(run_dir + ": plate '" + name + "' has no live element at t = " +
-                   shortestText(step.time) +
-                   " s: its holes are measured from its elements (a plate made of particles "
-                   "has none)");
   HoleOptions options;
   options.mirror = half;  // the half model's symmetry plane is y = 0
   if (step_time) *step_time = step.time;
-  return simulatedPlate(x, tets, options);
+  if (!tets.empty()) return simulatedPlate(x, tets, options);
+  // A plate made of particles: its particles.
+  const std::vector<vtkIdType> particles = render_detail::particlesOf(step.particles, body);
+  if (particles.empty())
+    throw RunError(run_dir + ": plate '" + name + "' has neither a live element nor a particle "
+                   "at t = " + shortestText(step.time) + " s");
+  return simulatedParticlePlate(render_detail::plateParticles(step.particles, particles), options);
 }
 
 void writeSideBySide(const GrayImage& photo, const PhotoSegmentation& seg,

@@ -18,8 +18,9 @@ void writeGrayPng(const GrayImage& image, const std::string& path);
 
 /// Body `body` (named `name`) of the run in `run_dir` at the output step nearest to `time`
 /// (< 0: the last), as the photograph would show it (half models mirrored on y = 0).
-/// `*step_time` gets the time of the step read. Throws RunError, also for a body with no
-/// element there (a plate made of particles).
+/// A plate made of particles is measured from its particles (simulatedParticlePlate).
+/// `*step_time` gets the time of the step read. Throws RunError, also for a body with neither
+/// an element nor a particle there.
 SimulatedPlate readSimulatedPlate(const std::string& run_dir, double time, int body,
                                   const std::string& name, bool half,
                                   double* step_time = nullptr);

@@ -3,6 +3,8 @@
 // page layout, colour maps and particle glyphs the other report images share.
 #include "render/plate_images.hpp"
 
+#include "core/analysis/debris.hpp"
+
 #include "core/common/error.hpp"
 #include "core/common/toml_check.hpp"
 #include "render/osmesa_context.hpp"
@@ -372,13 +374,42 @@ void bodyColour(int b, double rgb[3]) {
   for (int c = 0; c < 3; ++c) rgb[c] = palette[k][c];
 }
 
+std::vector<vtkIdType> particlesOf(vtkPolyData* particles, int body) {
+  std::vector<vtkIdType> ids;
+  vtkDataArray* bodies = particles ? particles->GetPointData()->GetArray("body") : nullptr;
+  for (vtkIdType i = 0; bodies && i < particles->GetNumberOfPoints(); ++i)
+    if (static_cast<int>(bodies->GetTuple1(i)) == body) ids.push_back(i);
+  return ids;
+}
+
+std::vector<DebrisParticle> plateParticles(vtkPolyData* particles,
+                                           const std::vector<vtkIdType>& ids) {
+  vtkDataArray* radius = particles->GetPointData()->GetArray("radius");
+  vtkDataArray* mass = particles->GetPointData()->GetArray("mass");
+  vtkDataArray* damage = particles->GetPointData()->GetArray("damage");
+  if (!radius || !mass || !damage)
+    throw RunError("particle series without \"radius\", \"mass\" and \"damage\" arrays");
+  std::vector<DebrisParticle> list;
+  for (vtkIdType i : ids) {
+    DebrisParticle q;
+    particles->GetPoint(i, q.x.data());
+    q.radius = radius->GetTuple1(i);
+    q.mass = mass->GetTuple1(i);
+    q.damage = damage->GetTuple1(i);
+    q.body = 0;  // one plate's
+    list.push_back(q);
+  }
+  return list;
+}
+
 vtkSmartPointer<vtkActor> particleActor(vtkPolyData* particles, const std::vector<vtkIdType>& keep,
                                         vtkScalarsToColors* lut, const std::string& field,
-                                        bool mirror_y) {
+                                        double unit, bool mirror_y) {
   if (!particles || keep.empty()) return nullptr;
   vtkDataArray* radius = particles->GetPointData()->GetArray("radius");
   vtkDataArray* body = particles->GetPointData()->GetArray("body");
   vtkDataArray* value = lut ? particles->GetPointData()->GetArray(field.c_str()) : nullptr;
+  if (!value) lut = nullptr;  // a field the particles lack: their body's colour, not a 0
   if (!radius) throw RunError("particle series without a \"radius\" array");
 
   vtkNew<vtkPoints> pts;
@@ -399,7 +430,7 @@ vtkSmartPointer<vtkActor> particleActor(vtkPolyData* particles, const std::vecto
       pts->InsertNextPoint(x);
       r->InsertNextValue(radius->GetTuple1(i));
       if (lut) {
-        v->InsertNextValue(value ? value->GetTuple1(i) : 0.0);
+        v->InsertNextValue(value->GetTuple1(i) * unit);
       } else {
         double c[3];
         bodyColour(body ? static_cast<int>(body->GetTuple1(i)) : 0, c);
@@ -517,10 +548,12 @@ PlateHoles holesOf(vtkUnstructuredGrid* plate, const std::string& name, bool hal
   return holes;
 }
 
+// A plate as drawn: its elements, or for a plate made of particles, its particles.
 struct PlateView {
   int body;
   std::string name;
   vtkSmartPointer<vtkUnstructuredGrid> cells;
+  std::vector<vtkIdType> particles;  ///< a plate made of particles (no cells): its particles
   PlateHoles holes;  ///< also the plate's frame and extent
 };
 
@@ -587,12 +620,17 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
                        "\" in the element series; have: " + names);
   }
 
-  // Which bodies to draw: the caller's, or every body with cells that is not a projectile.
+  // Which bodies to draw: the caller's, or every body with cells or particles that is not a
+  // projectile.
   std::vector<int> chosen = plates;
   if (chosen.empty()) {
     int max_body = -1;
     for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
       max_body = std::max(max_body, static_cast<int>(bodies->GetTuple1(c)));
+    vtkDataArray* particle_bodies =
+        step.particles ? step.particles->GetPointData()->GetArray("body") : nullptr;
+    for (vtkIdType i = 0; particle_bodies && i < particle_bodies->GetNumberOfTuples(); ++i)
+      max_body = std::max(max_body, static_cast<int>(particle_bodies->GetTuple1(i)));
     for (int b = 0; b <= max_body; ++b)
       if (b >= static_cast<int>(info.bodies.size()) || !info.bodies[b].projectile)
         chosen.push_back(b);
@@ -606,8 +644,18 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
                  ? info.bodies[b].name
                  : "body" + std::to_string(b);
     v.cells = extractBody(grid, b);
-    if (v.cells->GetNumberOfCells() == 0) continue;
-    v.holes = holesOf(v.cells, v.name, info.half);
+    if (v.cells->GetNumberOfCells() > 0) {
+      v.holes = holesOf(v.cells, v.name, info.half);
+    } else {  // made of particles: its plate proper drawn as the plate, the rest as debris
+      const std::vector<vtkIdType> ids = particlesOf(step.particles, b);
+      HoleOptions o;
+      o.mirror = info.half;
+      std::vector<int> proper;
+      v.holes = findParticleHoles(plateParticles(step.particles, ids), o, &proper);
+      v.holes.plate = v.name;
+      for (int k : proper) v.particles.push_back(ids[static_cast<std::size_t>(k)]);
+      if (v.particles.empty()) continue;  // nothing of it left to draw
+    }
     views.push_back(std::move(v));
   }
   if (views.empty()) return {};
@@ -626,12 +674,20 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
   // Colour range over all plates (damage: always [0, 1]).
   double unit = 1;
   const std::string bar_title = fieldTitle(options.field, &unit);
+  vtkDataArray* particle_field =
+      step.particles ? step.particles->GetPointData()->GetArray(options.field.c_str()) : nullptr;
   double lo = 1e300, hi = -1e300;
   for (const PlateView& v : views) {
-    double r[2];
-    v.cells->GetCellData()->GetArray(options.field.c_str())->GetRange(r);
-    lo = std::min(lo, r[0] * unit);
-    hi = std::max(hi, r[1] * unit);
+    if (v.cells->GetNumberOfCells() > 0) {
+      double r[2];
+      v.cells->GetCellData()->GetArray(options.field.c_str())->GetRange(r);
+      lo = std::min(lo, r[0] * unit);
+      hi = std::max(hi, r[1] * unit);
+    }
+    for (std::size_t k = 0; particle_field && k < v.particles.size(); ++k) {
+      lo = std::min(lo, particle_field->GetTuple1(v.particles[k]) * unit);
+      hi = std::max(hi, particle_field->GetTuple1(v.particles[k]) * unit);
+    }
   }
   if (options.field == "damage") lo = 0, hi = 1;
   if (options.field == "plastic_strain") lo = 0;
@@ -649,22 +705,31 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     vtkNew<vtkDoubleArray> shown;  // the field in display units
     shown->SetName("shown");
     vtkDataArray* raw = skin->GetCellData()->GetArray(options.field.c_str());
-    shown->SetNumberOfValues(raw->GetNumberOfTuples());
-    for (vtkIdType c = 0; c < raw->GetNumberOfTuples(); ++c)
+    shown->SetNumberOfValues(raw ? raw->GetNumberOfTuples() : 0);
+    for (vtkIdType c = 0; c < shown->GetNumberOfValues(); ++c)
       shown->SetValue(c, raw->GetTuple1(c) * unit);
     skin->GetCellData()->AddArray(shown);
 
-    // Particles in a slab of one plate extent on either side of the plate.
+    // The other particles in a slab of one plate extent on either side of the plate: other
+    // bodies', and the plate's own that are not the plate proper (converted from its elements,
+    // or failed and loose).
     std::vector<vtkIdType> keep;
     if (options.particles && step.particles) {
+      std::vector<char> plate(static_cast<std::size_t>(step.particles->GetNumberOfPoints()), 0);
+      for (vtkIdType i : v.particles) plate[static_cast<std::size_t>(i)] = 1;
       const double t = h.front - h.rear;
       for (vtkIdType i = 0; i < step.particles->GetNumberOfPoints(); ++i) {
+        if (plate[static_cast<std::size_t>(i)]) continue;  // drawn as the plate
         Vec3 p;
         step.particles->GetPoint(i, p.data());
         const double s = (p - h.origin).dot(h.normal);
         if (s >= h.rear - t && s <= h.front + t) keep.push_back(i);
       }
     }
+    // A plate made of particles colours them by the field, where the particles have it.
+    std::string subtitle_front = bar_title;
+    if (!v.particles.empty() && !particle_field)
+      subtitle_front += " (not in the particle series: particles in their body's colour)";
 
     PlateImages images;
     images.plate = v.name;
@@ -678,7 +743,8 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
       Page page = makePage(win.window(), W, H);
 
       const vtkSmartPointer<vtkPolyDataMapper> mapper = fieldMapper(skin, lut);
-      for (int m = 0; m < (info.half ? 2 : 1); ++m) {
+      const int copies = !v.particles.empty() ? 0 : info.half ? 2 : 1;  // of its elements
+      for (int m = 0; m < copies; ++m) {
         vtkNew<vtkActor> actor;
         actor->SetMapper(mapper);
         actor->GetProperty()->SetAmbient(0.25);
@@ -686,9 +752,11 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
         if (m == 1) actor->SetScale(1, -1, 1);  // the mirror image of a half model
         page.scene->AddActor(actor);
       }
-      if (auto particles = particleActor(step.particles, keep, nullptr, "", info.half))
+      if (auto plate = particleActor(step.particles, v.particles, lut, options.field, unit,
+                                     info.half))
+        page.scene->AddActor(plate);
+      if (auto particles = particleActor(step.particles, keep, nullptr, "", 1.0, info.half))
         page.scene->AddActor(particles);
-      if (rear && options.hole_outlines && !h.holes.empty()) page.scene->AddActor(outlineActor(h));
 
       vtkCamera* cam = page.scene->GetActiveCamera();
       cam->ParallelProjectionOn();
@@ -700,9 +768,24 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
       cam->SetViewUp(h.v.x(), h.v.y(), h.v.z());
       cam->SetParallelScale(scale);
       page.scene->ResetCameraClippingRange();
+      // The hole outlines in a layer over the scene, seen through the debris flying behind
+      // the plate (which hid them in the scene), with a copy of its camera.
+      vtkNew<vtkRenderer> outlines;
+      vtkNew<vtkCamera> outline_camera;
+      if (rear && options.hole_outlines && !h.holes.empty()) {
+        outlines->SetViewport(kSceneViewport[0], kSceneViewport[1], kSceneViewport[2],
+                              kSceneViewport[3]);
+        outlines->SetLayer(1);
+        outline_camera->DeepCopy(cam);
+        outlines->SetActiveCamera(outline_camera);
+        outlines->AddActor(outlineActor(h));
+        outlines->ResetCameraClippingRange();
+        win.window()->SetNumberOfLayers(2);
+        win.window()->AddRenderer(outlines);
+      }
 
       addTitle(page, v.name + (rear ? ": rear face" : ": front face"),
-               timeLabel(step.time) + "   |   " + (rear ? holeSummary(h) : bar_title));
+               timeLabel(step.time) + "   |   " + (rear ? holeSummary(h) : subtitle_front));
       addScaleBar(page, pixel_size);
       addScalarBar(page, lut, bar_title, labels);
 

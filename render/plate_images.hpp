@@ -3,6 +3,7 @@
 // and rear views of every plate, with particles, scalar bar, scale bar and hole outlines.
 #pragma once
 
+#include "core/analysis/debris.hpp"
 #include "core/analysis/hole_metrics.hpp"
 #include "core/common/error.hpp"
 
@@ -68,8 +69,10 @@ class UnknownField : public RunError {
 /// nearest to `time` (time < 0: the last step), written to OUT_DIR/<plate>_front.png and
 /// OUT_DIR/<plate>_rear.png. Plates: `plates` (body indices) or, when empty, every body that is
 /// not a projectile. Half models are drawn mirrored (the full plate). All plates share one
-/// camera extent. A plate with no element at that step (one made of particles) is not drawn:
-/// none such, an empty list. Throws UnknownField, or RunError (no series, unwritable file).
+/// camera extent. A plate made of particles (no element at that step) is drawn as its
+/// particles, coloured by the field where the particle series has it, its holes found from
+/// them (findParticleHoles); a plate with neither is not drawn: none such, an empty list.
+/// Throws UnknownField, or RunError (no series, unwritable file).
 std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double time,
                                            const ImageOptions& options,
                                            const std::string& out_dir,
@@ -125,13 +128,21 @@ vtkSmartPointer<vtkLookupTable> fieldColours(const std::string& field, double lo
                                              vtkDataObject* data);
 /// Colour of body `b` for particles (a categorical palette distinct from viridis).
 void bodyColour(int b, double rgb[3]);
-/// Particles `keep` selects drawn as spheres of their "radius": coloured by `field` through
-/// `lut`, or by body (bodyColour) when `lut` is null; `mirror_y` adds their mirror images on
-/// y = 0 (half models). Null when none is kept.
+/// The particles of body `body` in a step's particle series (none without a series).
+std::vector<vtkIdType> particlesOf(vtkPolyData* particles, int body);
+/// Those particles as findParticleHoles takes them. Throws RunError without their radius
+/// and mass.
+std::vector<DebrisParticle> plateParticles(vtkPolyData* particles,
+                                           const std::vector<vtkIdType>& ids);
+
+/// Particles `keep` selects drawn as spheres of their "radius": coloured by `field` (times
+/// `unit`, the lookup table's units: fieldTitle) through `lut`, or by body (bodyColour) when
+/// `lut` is null or the particle series has no such field; `mirror_y` adds their mirror images
+/// on y = 0 (half models). Null when none is kept.
 vtkSmartPointer<vtkActor> particleActor(vtkPolyData* particles,
                                         const std::vector<vtkIdType>& keep,
                                         vtkScalarsToColors* lut, const std::string& field,
-                                        bool mirror_y = false);
+                                        double unit, bool mirror_y = false);
 
 }  // namespace render_detail
 

@@ -64,12 +64,6 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
   shown->SetNumberOfValues(raw->GetNumberOfTuples());
   for (vtkIdType c = 0; c < raw->GetNumberOfTuples(); ++c) shown->SetValue(c, raw->GetTuple1(c) * unit);
   skin->GetCellData()->AddArray(shown);
-  double range[2];
-  values->GetRange(range);
-  double lo = range[0] * unit, hi = range[1] * unit;
-  if (field == "plastic_strain") lo = 0;
-  const int labels = niceRange(lo, hi);
-  const vtkSmartPointer<vtkLookupTable> lut = fieldColours(field, lo, hi, step.elements);
 
   // Particles whose centre lies within 1.5 radii of the plane.
   std::vector<vtkIdType> keep;
@@ -78,6 +72,20 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
     for (vtkIdType i = 0; radius && i < step.particles->GetNumberOfPoints(); ++i)
       if (std::abs(step.particles->GetPoint(i)[1]) <= 1.5 * radius->GetTuple1(i)) keep.push_back(i);
   }
+
+  // The colours' range holds the elements' values and those of the particles drawn.
+  double range[2];
+  values->GetRange(range);
+  double lo = range[0] * unit, hi = range[1] * unit;
+  vtkDataArray* particle_values =
+      step.particles ? step.particles->GetPointData()->GetArray(field.c_str()) : nullptr;
+  for (std::size_t k = 0; particle_values && k < keep.size(); ++k) {
+    lo = std::min(lo, particle_values->GetTuple1(keep[k]) * unit);
+    hi = std::max(hi, particle_values->GetTuple1(keep[k]) * unit);
+  }
+  if (field == "plastic_strain") lo = 0;
+  const int labels = niceRange(lo, hi);
+  const vtkSmartPointer<vtkLookupTable> lut = fieldColours(field, lo, hi, step.elements);
 
   const int W = options.width, H = options.height;
   OffscreenWindow win(W, H);
@@ -88,7 +96,7 @@ std::string renderSectionView(const std::string& run_dir, double time, const Ima
   actor->GetProperty()->SetAmbient(0.25);
   actor->GetProperty()->SetDiffuse(0.8);
   page.scene->AddActor(actor);
-  if (auto particles = particleActor(step.particles, keep, lut, field)) page.scene->AddActor(particles);
+  if (auto particles = particleActor(step.particles, keep, lut, field, unit)) page.scene->AddActor(particles);
 
   // Fit the x-z extent of the cut elements and of the particles drawn near them; x is up,
   // -z (flight) to the right. Debris that has flown further than half the elements' extent

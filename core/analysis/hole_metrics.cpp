@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-// Hole metrics: project the plate's live tets onto its mid-plane, rasterise, and take the empty
-// 4-connected regions that do not reach the raster border as through-holes.
+// Hole metrics: project the plate's live tets (or its particles, as discs) onto its mid-plane,
+// rasterise, and take the empty 4-connected regions that do not reach the raster border as
+// through-holes.
 #include "core/analysis/hole_metrics.hpp"
 
+#include "core/analysis/debris.hpp"
 #include "core/common/error.hpp"
 #include "core/common/union_find.hpp"
 
@@ -97,6 +99,19 @@ struct Raster {
   double ca(int i) const { return a0 + (i + 0.5) * h; }
   double cb(int j) const { return b0 + (j + 0.5) * h; }
 
+  // Mark cells whose centre lies in the disc (its edge included).
+  void fillDisc(const Eigen::Vector2d& c, double radius) {
+    const int i0 = std::max(0, static_cast<int>(std::floor((c.x() - radius - a0) / h)));
+    const int i1 = std::min(nx - 1, static_cast<int>(std::floor((c.x() + radius - a0) / h)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((c.y() - radius - b0) / h)));
+    const int j1 = std::min(ny - 1, static_cast<int>(std::floor((c.y() + radius - b0) / h)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const double dx = ca(i) - c.x(), dy = cb(j) - c.y();
+        if (dx * dx + dy * dy <= radius * radius) full[at(i, j)] = 1;
+      }
+  }
+
   // Mark cells whose centre lies in the triangle (edges included, so shared edges leave no gap).
   void fillTriangle(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
     const double area2 = (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
@@ -177,65 +192,26 @@ std::vector<Eigen::Vector2d> outlineOf(const Raster& r, const std::vector<int>& 
   return pts;
 }
 
-}  // namespace
-
-PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<int, 4>>& tets,
-                     const HoleOptions& o) {
-  PlateHoles out;
-  if (tets.empty()) return out;
-  const std::vector<std::size_t> kept = largestPiece(x.size(), tets);
-
-  std::vector<Vec3> pts;  // nodes of the kept tets, and their mirror images
-  {
-    std::vector<char> used(x.size(), 0);
-    for (std::size_t e : kept)
-      for (int n : tets[e]) used[n] = 1;
-    for (std::size_t n = 0; n < x.size(); ++n)
-      if (used[n]) {
-        pts.push_back(x[n]);
-        if (o.mirror) pts.push_back(mirrored(x[n], o));
-      }
-  }
-  setFrame(pts, o, out);
-
-  const auto project = [&](const Vec3& p) {
-    return Eigen::Vector2d((p - out.origin).dot(out.u), (p - out.origin).dot(out.v));
-  };
-  double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
-  for (const Vec3& p : pts) {
-    const Eigen::Vector2d q = project(p);
-    amin = std::min(amin, q.x()), amax = std::max(amax, q.x());
-    bmin = std::min(bmin, q.y()), bmax = std::max(bmax, q.y());
-  }
-  out.u_min = amin, out.u_max = amax, out.v_min = bmin, out.v_max = bmax;
-  double h = o.cell_size > 0 ? o.cell_size : defaultCellSize(x, tets, kept);
-  const double cells = (amax - amin) * (bmax - bmin) / (h * h);
+// A raster over the plate's in-plane extent (out.u_min .. v_max) with two empty cells of
+// margin, so the region outside the plate is one piece touching the border. The cell is `h`,
+// or larger where the extent would take more than options.max_cells.
+Raster rasterOver(PlateHoles& out, double h, const HoleOptions& o) {
+  const double cells = (out.u_max - out.u_min) * (out.v_max - out.v_min) / (h * h);
   if (cells > static_cast<double>(o.max_cells)) h *= std::sqrt(cells / o.max_cells);
   out.cell_size = h;
-
-  // Two empty cells of margin: the region outside the plate is one piece touching the border.
   Raster r;
   r.h = h;
-  r.a0 = amin - 2 * h;
-  r.b0 = bmin - 2 * h;
-  r.nx = static_cast<int>(std::ceil((amax - amin) / h)) + 4;
-  r.ny = static_cast<int>(std::ceil((bmax - bmin) / h)) + 4;
+  r.a0 = out.u_min - 2 * h;
+  r.b0 = out.v_min - 2 * h;
+  r.nx = static_cast<int>(std::ceil((out.u_max - out.u_min) / h)) + 4;
+  r.ny = static_cast<int>(std::ceil((out.v_max - out.v_min) / h)) + 4;
   r.full.assign(static_cast<std::size_t>(r.nx) * r.ny, 0);
+  return r;
+}
 
-  for (int copy = 0; copy < (o.mirror ? 2 : 1); ++copy)
-    for (std::size_t e : kept) {
-      Eigen::Vector2d q[4];
-      for (int k = 0; k < 4; ++k) {
-        const Vec3& p = x[tets[e][k]];
-        q[k] = project(copy == 0 ? p : mirrored(p, o));
-      }
-      // The projected tet is the hull of its four projected corners, which the three faces
-      // at any one corner cover (a fan from a corner of the hull, or around it when inside).
-      r.fillTriangle(q[0], q[1], q[2]);
-      r.fillTriangle(q[0], q[1], q[3]);
-      r.fillTriangle(q[0], q[2], q[3]);
-    }
-
+// The through-holes of a filled raster: its empty 4-connected regions that do not reach the
+// border, of at least the smallest area, largest first, into out.holes.
+void collectHoles(const Raster& r, const HoleOptions& o, PlateHoles& out) {
   // Label the empty regions (4-connected); label 0 is the outside, reached from the border.
   std::vector<int> label(r.full.size(), -1);
   std::vector<std::vector<std::size_t>> regions;  // cells of each region (none kept for 0)
@@ -265,7 +241,7 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
     for (int i = 0; i < r.nx; ++i)
       if (!r.full[r.at(i, j)] && label[r.at(i, j)] < 0) flood(i, j);
 
-  const double cell_area = h * h;
+  const double cell_area = r.h * r.h;
   const double min_area = o.min_area > 0 ? o.min_area : 4 * cell_area;
   const auto at3d = [&](double a, double b) { return Vec3(out.origin + a * out.u + b * out.v); };
   for (std::size_t id = 1; id < regions.size(); ++id) {
@@ -295,6 +271,120 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
   }
   std::sort(out.holes.begin(), out.holes.end(),
             [](const Hole& a, const Hole& b) { return a.area > b.area; });
+}
+
+Eigen::Vector2d inPlane(const PlateHoles& frame, const Vec3& p) {
+  return {(p - frame.origin).dot(frame.u), (p - frame.origin).dot(frame.v)};
+}
+
+}  // namespace
+
+PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<int, 4>>& tets,
+                     const HoleOptions& o) {
+  PlateHoles out;
+  if (tets.empty()) return out;
+  const std::vector<std::size_t> kept = largestPiece(x.size(), tets);
+
+  std::vector<Vec3> pts;  // nodes of the kept tets, and their mirror images
+  {
+    std::vector<char> used(x.size(), 0);
+    for (std::size_t e : kept)
+      for (int n : tets[e]) used[n] = 1;
+    for (std::size_t n = 0; n < x.size(); ++n)
+      if (used[n]) {
+        pts.push_back(x[n]);
+        if (o.mirror) pts.push_back(mirrored(x[n], o));
+      }
+  }
+  setFrame(pts, o, out);
+  out.u_min = out.v_min = 1e300;
+  out.u_max = out.v_max = -1e300;
+  for (const Vec3& p : pts) {
+    const Eigen::Vector2d q = inPlane(out, p);
+    out.u_min = std::min(out.u_min, q.x()), out.u_max = std::max(out.u_max, q.x());
+    out.v_min = std::min(out.v_min, q.y()), out.v_max = std::max(out.v_max, q.y());
+  }
+  Raster r = rasterOver(out, o.cell_size > 0 ? o.cell_size : defaultCellSize(x, tets, kept), o);
+  for (int copy = 0; copy < (o.mirror ? 2 : 1); ++copy)
+    for (std::size_t e : kept) {
+      Eigen::Vector2d q[4];
+      for (int k = 0; k < 4; ++k) {
+        const Vec3& p = x[tets[e][k]];
+        q[k] = inPlane(out, copy == 0 ? p : mirrored(p, o));
+      }
+      // The projected tet is the hull of its four projected corners, which the three faces
+      // at any one corner cover (a fan from a corner of the hull, or around it when inside).
+      r.fillTriangle(q[0], q[1], q[2]);
+      r.fillTriangle(q[0], q[1], q[3]);
+      r.fillTriangle(q[0], q[2], q[3]);
+    }
+  collectHoles(r, o, out);
+  return out;
+}
+
+PlateHoles findParticleHoles(const std::vector<DebrisParticle>& particles, const HoleOptions& o,
+                             std::vector<int>* proper) {
+  PlateHoles out;
+  if (proper) proper->clear();
+  // The plate proper: the largest clump of its unfailed particles. A failed particle (damage
+  // 1) is debris, as a failed element is eroded: a cloud of them ahead of the projectile stays
+  // linked to the rim in chains, and would close the hole it flies out of.
+  std::vector<DebrisParticle> intact;
+  std::vector<int> index;  // of each intact one in `particles`
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (particles[i].damage < 1.0) {
+      intact.push_back(particles[i]);
+      index.push_back(static_cast<int>(i));
+    }
+  if (intact.empty()) return out;
+  const DebrisOptions link;
+  const std::vector<Clump> clumps = findClumps(intact, link);
+  std::vector<DebrisParticle> kept;
+  for (int i : clumps.front().members) {
+    if (proper) proper->push_back(index[static_cast<std::size_t>(i)]);
+    kept.push_back(intact[static_cast<std::size_t>(i)]);
+    if (o.mirror) {
+      kept.push_back(kept.back());
+      kept.back().x = mirrored(kept.back().x, o);
+    }
+  }
+  // Each covers a disc of `reach` times its radius: every point of a triangle of sides up to
+  // L lies within L / sqrt(3) of a corner, so three mutually linked particles (sides up to
+  // link (r_i + r_j)) leave no gap between them.
+  const double reach = 2 * link.link / std::sqrt(3.0);
+  std::vector<Vec3> centres;
+  std::vector<double> radius;
+  for (const DebrisParticle& p : kept) {
+    centres.push_back(p.x);
+    radius.push_back(p.radius);
+  }
+  setFrame(centres, o, out);
+  const double r_max = *std::max_element(radius.begin(), radius.end());
+  out.front += r_max;  // a particle's material reaches a radius beyond its centre
+  out.rear -= r_max;
+  out.u_min = out.v_min = 1e300;
+  out.u_max = out.v_max = -1e300;
+  for (const DebrisParticle& p : kept) {
+    const Eigen::Vector2d q = inPlane(out, p.x);
+    out.u_min = std::min(out.u_min, q.x() - reach * p.radius);
+    out.u_max = std::max(out.u_max, q.x() + reach * p.radius);
+    out.v_min = std::min(out.v_min, q.y() - reach * p.radius);
+    out.v_max = std::max(out.v_max, q.y() + reach * p.radius);
+  }
+  const auto percentile = [&](std::size_t per_cent) {
+    auto at = radius.begin() + static_cast<std::ptrdiff_t>(radius.size() * per_cent / 100);
+    std::nth_element(radius.begin(), at, radius.end());
+    return *at;
+  };
+  // A quarter of the fine particles' spacing (twice the radius), as for tets.
+  Raster r = rasterOver(out, o.cell_size > 0 ? o.cell_size : 0.5 * percentile(10), o);
+  for (const DebrisParticle& p : kept) r.fillDisc(inPlane(out, p.x), reach * p.radius);
+  // Linked particles round a gap wider than a triangle's leave a speck uncovered (a square's
+  // middle, 0.4 r across): openings under a particle's cross-section are not holes the
+  // particles resolve.
+  HoleOptions resolved = o;
+  if (!(o.min_area > 0)) resolved.min_area = std::max(kPi * std::pow(percentile(50), 2), 4 * r.h * r.h);
+  collectHoles(r, resolved, out);
   return out;
 }
 

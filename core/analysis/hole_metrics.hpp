@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Through-holes of a perforated plate, from geometry (not pixels): the live tetrahedra are
-// projected onto the plate's mid-plane and rasterised; holes are the enclosed empty regions.
+// Through-holes of a perforated plate, from geometry (not pixels): the live tetrahedra (or a
+// plate made of particles, its particles as discs) are projected onto the plate's mid-plane and
+// rasterised; holes are the enclosed empty regions.
 #pragma once
 
 #include "core/common/types.hpp"
@@ -12,8 +13,11 @@
 
 namespace fesph {
 
+struct DebrisParticle;
+
 struct HoleOptions {
-  /// Raster cell edge, m. 0: a quarter of the 10th-percentile tet edge length (the fine mesh).
+  /// Raster cell edge, m. 0: a quarter of the 10th-percentile tet edge length (the fine mesh),
+  /// or of the 10th-percentile particle spacing (twice the radius).
   double cell_size = 0;
   /// The raster never exceeds this many cells; the cell grows to fit.
   std::size_t max_cells = 16'000'000;
@@ -63,6 +67,18 @@ struct PlateHoles {
 /// came loose do not close a hole even when they still lie in front of it.
 PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<int, 4>>& tets,
                      const HoleOptions& options = {});
+
+/// Holes of a plate made of particles (DebrisParticle: position, mass, radius, damage). The
+/// plate proper is the largest clump of its unfailed particles (damage < 1; linked as
+/// debris.hpp's DebrisOptions::link says: |x_i - x_j| <= 1.5 (r_i + r_j)): failed particles,
+/// plugs and fragments that came loose do not close a hole. Each particle of it covers a disc
+/// of sqrt(3) its radius on the mid-plane, which leaves no gap within a triangle of linked
+/// particles; openings smaller than a particle's cross-section (pi r^2, the median radius) are
+/// not holes. A hole's edge is resolved to about a particle spacing (twice the radius); front
+/// and rear are the extreme centres' plus a radius. `proper` (if given) receives the indices
+/// of the plate proper's particles, ascending.
+PlateHoles findParticleHoles(const std::vector<DebrisParticle>& particles,
+                             const HoleOptions& options = {}, std::vector<int>* proper = nullptr);
 
 /// Holes of the live elements of body `body` of `model`, at the current positions.
 PlateHoles findHoles(const Model& model, int body, const HoleOptions& options = {});

@@ -157,6 +157,16 @@ SimulatedPlate simulatedPlate(const std::vector<Vec3>& x,
   return out;
 }
 
+SimulatedPlate simulatedParticlePlate(const std::vector<DebrisParticle>& particles,
+                                      const HoleOptions& options) {
+  SimulatedPlate out;
+  out.holes = findParticleHoles(particles, options);
+  const PlateHoles& h = out.holes;
+  out.centre = 0.5 * Eigen::Vector2d(h.u_min + h.u_max, h.v_min + h.v_max);
+  out.half_size = Eigen::Vector2d(h.halfU(), h.halfV());
+  return out;
+}
+
 Eigen::Vector2d PhotoFrame::toPlate(const Eigen::Vector2d& px) const {
   const Eigen::Vector2d d = px - pixel_ref;
   return plate_ref + m_per_px * Eigen::Vector2d(rear ? -d.x() : d.x(), -d.y());

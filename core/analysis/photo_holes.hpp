@@ -69,6 +69,11 @@ SimulatedPlate simulatedPlate(const std::vector<Vec3>& x,
                               const std::vector<std::array<int, 4>>& tets,
                               const HoleOptions& options = {});
 
+/// findParticleHoles on a plate made of particles, and the extent of the plate proper (its
+/// largest clump, mirrored if options.mirror).
+SimulatedPlate simulatedParticlePlate(const std::vector<DebrisParticle>& particles,
+                                      const HoleOptions& options = {});
+
 /// Photograph pixel (column, row; pixel centres at +0.5) <-> plate coordinates, m: along the
 /// frame's u and v from the plate's centre (SimulatedPlate::centre).
 /// The photograph's right is +u and up is +v for a photograph of the front face (the view of

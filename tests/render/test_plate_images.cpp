@@ -20,6 +20,15 @@
 
 #include <catch2/catch.hpp>
 
+#include <vtkActor.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkGlyph3DMapper.h>
+#include <vtkLookupTable.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -44,7 +53,15 @@ struct PlateSpec {
   Vec3 lo, size;
   double hole_radius = 0;
   std::function<void(const Vec3&, PointState&)> fill = [](const Vec3&, PointState&) {};
+  /// Made of particles: one of 1 mm^3 at each cube's centre, those of the hole's columns left
+  /// out (the hole is then in the model from the start).
+  bool particles = false;
 };
+
+/// The centre of the 1 mm cube column (whole mm in x and y) that holds x.
+Vec3 columnOf(const Vec3& x) {
+  return Vec3((std::floor(x.x() / mm) + 0.5) * mm, (std::floor(x.y() / mm) + 0.5) * mm, 0.0);
+}
 
 struct RunSpec {
   std::vector<PlateSpec> plates;
@@ -58,9 +75,21 @@ Model buildRun(const RunSpec& spec) {
   model.materials.push_back(elasticMaterial());
   for (const PlateSpec& p : spec.plates) {
     const auto cells = [](double length) { return static_cast<int>(std::lround(length / mm)); };
-    addBody(model, p.name,
-            structuredBox(p.lo, p.size, cells(p.size.x()), cells(p.size.y()), cells(p.size.z())),
-            0, Placement{}, Vec3::Zero(), false);
+    if (!p.particles) {
+      addBody(model, p.name,
+              structuredBox(p.lo, p.size, cells(p.size.x()), cells(p.size.y()), cells(p.size.z())),
+              0, Placement{}, Vec3::Zero(), false);
+      continue;
+    }
+    std::vector<Vec3> centres;
+    for (int k = 0; k < cells(p.size.z()); ++k)
+      for (int j = 0; j < cells(p.size.y()); ++j)
+        for (int i = 0; i < cells(p.size.x()); ++i) {
+          const Vec3 c = p.lo + Vec3(i + 0.5, j + 0.5, k + 0.5) * mm;
+          if (columnOf(c).norm() >= p.hole_radius) centres.push_back(c);
+        }
+    addParticleBody(model, p.name, centres, std::vector<double>(centres.size(), mm * mm * mm), 0,
+                    Vec3::Zero(), false);
   }
   if (!spec.particles.empty())
     addParticleBody(model, "debris", spec.particles,
@@ -74,11 +103,13 @@ Model buildRun(const RunSpec& spec) {
 void shapePlates(Model& model, const RunSpec& spec) {
   for (std::size_t b = 0; b < spec.plates.size(); ++b) {
     const Body& body = model.bodies[b];
+    for (std::size_t i = 0; i < model.particles.size(); ++i)
+      if (model.particles.body[i] == static_cast<int>(b))
+        spec.plates[b].fill(columnOf(model.particles.x[i]), model.particles.state[i]);
     for (std::size_t e = body.elem_begin; e < body.elem_end; ++e) {
       Vec3 c = Vec3::Zero();
       for (int n : model.elems.conn[e]) c += 0.25 * model.nodes.x0[n];
-      const Vec3 column((std::floor(c.x() / mm) + 0.5) * mm, (std::floor(c.y() / mm) + 0.5) * mm,
-                        0.0);
+      const Vec3 column = columnOf(c);
       model.elems.status[e] = column.norm() < spec.plates[b].hole_radius ? ElemStatus::Eroded
                                                                          : ElemStatus::Live;
       spec.plates[b].fill(column, model.elems.state[e]);
@@ -90,7 +121,8 @@ void writeScene(const fs::path& dir, const RunSpec& spec) {
   std::ofstream scene(dir / "scene.toml");
   if (spec.half) scene << "[simulation]\nsymmetry = \"half\"\n";
   for (const PlateSpec& p : spec.plates) scene << "[[bodies]]\nname = \"" << p.name << "\"\n";
-  if (!spec.particles.empty()) scene << "[[bodies]]\nname = \"debris\"\n";
+  // the debris particles a projectile's (a body of particles that is none is a plate, drawn)
+  if (!spec.particles.empty()) scene << "[[bodies]]\nname = \"debris\"\nprojectile = true\n";
 }
 
 /// A run of one output step at 10 us.
@@ -483,4 +515,106 @@ TEST_CASE("the section view colours each material apart and names it", "[unit][r
   const auto ink = [](const unsigned char* p) { return brightness(p) < 300; };
   CHECK(img.count(ink, 712, 490, 799, 502) > 20);  // "steel_4340"
   CHECK(img.count(ink, 712, 460, 799, 472) > 20);  // "OFHC_copper"
+}
+
+TEST_CASE("a plate made of particles is drawn as its particles, coloured, with its hole",
+          "[unit][render]") {
+  // Reference: renderPlateImages (plate_images.hpp). A 40 x 40 x 2 mm plate of 1 mm^3
+  // particles with a 12 mm hole, damage 0.3 and 100 MPa pressure for x < 0, 0.9 and 300 MPa
+  // for x > 0. Its hole is found from its particles (findParticleHoles: the equivalent
+  // diameter within a spacing, 1 mm, of the removed columns'); the debris is seen through it
+  // in the front view, and the halves are coloured apart by damage and by pressure. The pressure is drawn
+  // in the bar's MPa: in Pa, both halves lay beyond the range's top, one colour. The rear
+  // view outlines the hole over the debris flying behind it.
+  unsetenv("DISPLAY");
+  TempFolder dir("plate_of_particles");
+  RunSpec spec;
+  auto plate = squarePlate("plate", 6 * mm, [](const Vec3& column, PointState& st) {
+    st.damage = column.x() < 0 ? 0.3 : 0.9;
+    st.p = column.x() < 0 ? 100e6 : 300e6;
+  });
+  plate.particles = true;
+  spec.plates.push_back(plate);
+  // A cloud of debris 1.5 mm behind the plate over its hole, which hides the hole's outline
+  // from the rear camera unless the outline is drawn over the scene.
+  for (int j = -5; j <= 5; ++j)
+    for (int i = -5; i <= 5; ++i)
+      if (std::hypot(i, j) <= 5) spec.particles.push_back(Vec3(i * mm, j * mm, -3.5 * mm));
+  writePlateRun(dir.path, spec);
+  for (const std::string field : {"damage", "pressure"}) {
+    CAPTURE(field);
+    const std::vector<PlateImages> images = renderPlateImages(
+        dir.path.string(), -1, options800x600(field), (dir.path / field).string());
+    REQUIRE(images.size() == 1);
+    const PlateHoles& h = images[0].holes;
+    REQUIRE(h.holes.size() == 1);
+    CHECK(std::abs(h.holes[0].diameter - std::sqrt(4 * columnArea(6 * mm) / M_PI)) <= 1 * mm);
+    CHECK(h.holes[0].centroid.head<2>().norm() < 0.1 * mm);
+    const Image front = readPng(images[0].front_png);
+    const Centre c = sceneCentre(front);
+    CHECK(near(front.at(c.x, c.y), debrisColour(1).data(), 60));  // seen through the hole
+    const int d = static_cast<int>(12.5 * mm / images[0].pixel_size);  // a particle's centre
+    // The image's right is +x (u = v x n with v = y, n = z): the higher values, brighter.
+    CHECK(!white(front.at(c.x - d, c.y)));
+    CHECK(brightness(front.at(c.x + d, c.y)) > brightness(front.at(c.x - d, c.y)) + 60);
+    // The rear view: the hole's outline in red over the debris behind the plate (none of it
+    // in view when drawn in the scene). Its 3-pixel line follows the particles' scalloped
+    // edge, whose wiggles overlap at the pixel's scale: over half its length's pixels.
+    const Image rear = readPng(images[0].rear_png);
+    const unsigned char outline[3] = {227, 26, 28};
+    const std::vector<Vec3>& loop = h.holes[0].outline;
+    double perimeter = 0;
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      perimeter += (loop[(k + 1) % loop.size()] - loop[k]).norm();
+    const double line_px = 3 * perimeter / images[0].pixel_size;
+    const auto red = [&](const unsigned char* p) { return near(p, outline, 40); };
+    CHECK(static_cast<double>(rear.count(red)) > 0.5 * line_px);
+  }
+}
+
+TEST_CASE("particles take the field in the colour bar's units, or their body's colour",
+          "[unit][render]") {
+  // Reference: particleActor (plate_images.hpp), which the plate images and the section view
+  // colour particles with. Pressure is drawn in MPa (fieldTitle): a particle at 250e6 Pa is
+  // 250 on the bar; it was drawn at 250e6, beyond any bar's top. A field the particle series
+  // lacks draws the particles in their body's colour, not as 0.
+  vtkNew<vtkPolyData> particles;
+  vtkNew<vtkPoints> points;
+  points->InsertNextPoint(0, 0, 0);
+  points->InsertNextPoint(1e-3, 0, 0);
+  particles->SetPoints(points);
+  const auto array = [&](const char* name, double a, double b) {
+    vtkNew<vtkDoubleArray> values;
+    values->SetName(name);
+    values->InsertNextValue(a);
+    values->InsertNextValue(b);
+    particles->GetPointData()->AddArray(values);
+  };
+  array("radius", 0.5e-3, 0.5e-3);
+  array("body", 1, 1);
+  array("pressure", 250e6, -40e6);
+  double unit = 0;
+  render_detail::fieldTitle("pressure", &unit);
+  const vtkSmartPointer<vtkLookupTable> lut = render_detail::viridis(-100, 300);
+  // The points the actor draws (it owns them: keep it).
+  const auto drawn = [](vtkActor* actor) {
+    REQUIRE(actor);
+    auto* mapper = vtkGlyph3DMapper::SafeDownCast(actor->GetMapper());
+    REQUIRE(mapper);
+    return vtkPolyData::SafeDownCast(mapper->GetInputDataObject(0, 0));
+  };
+  const vtkSmartPointer<vtkActor> coloured =
+      render_detail::particleActor(particles, {0, 1}, lut, "pressure", unit);
+  vtkDataArray* value = drawn(coloured)->GetPointData()->GetArray("value");
+  REQUIRE(value);
+  CHECK(value->GetTuple1(0) == Approx(250.0).epsilon(1e-12));
+  CHECK(value->GetTuple1(1) == Approx(-40.0).epsilon(1e-12));
+  const vtkSmartPointer<vtkActor> lacking =
+      render_detail::particleActor(particles, {0, 1}, lut, "von_mises", unit);
+  vtkPolyData* plain = drawn(lacking);
+  CHECK(plain->GetPointData()->GetArray("value") == nullptr);
+  vtkDataArray* colour = plain->GetPointData()->GetArray("colour");
+  REQUIRE(colour);
+  const std::array<unsigned char, 3> expected = debrisColour(1);
+  for (int k = 0; k < 3; ++k) CHECK(colour->GetComponent(0, k) == expected[k]);
 }

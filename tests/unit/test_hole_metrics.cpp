@@ -3,6 +3,8 @@
 // area (cubes x cube area) and centroid are known exactly.
 #include "core/analysis/hole_metrics.hpp"
 
+#include "core/analysis/debris.hpp"
+
 #include "core/mesh/structured_box.hpp"
 #include "tests/support/models.hpp"
 
@@ -10,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -96,6 +99,27 @@ std::vector<std::array<int, 4>> columnsKept(const TetMesh& mesh,
   return live;
 }
 
+
+/// The plate as a body made of particles (discretisation = "sph"): one particle per live tet,
+/// at its centroid, of its volume (radius half the volume's cube root, as the solver's) in
+/// steel. `plug_shift`: the removed tets' particles too, moved by it (a plug pushed out).
+std::vector<DebrisParticle> particlesOf(const HolePlate& p, const Vec3* plug_shift = nullptr) {
+  std::vector<DebrisParticle> out;
+  for (std::size_t t = 0; t < p.mesh.tets.size(); ++t) {
+    if (p.eroded[t] && !plug_shift) continue;
+    const auto& n = p.mesh.tets[t];
+    const std::vector<Vec3>& x = p.mesh.nodes;
+    DebrisParticle q;
+    q.x = 0.25 * (x[n[0]] + x[n[1]] + x[n[2]] + x[n[3]]);
+    if (p.eroded[t]) q.x += *plug_shift;
+    const double V = std::abs((x[n[1]] - x[n[0]]).dot((x[n[2]] - x[n[0]]).cross(x[n[3]] - x[n[0]]))) / 6;
+    q.radius = 0.5 * std::cbrt(V);
+    q.mass = 7850 * V;
+    q.body = 0;
+    out.push_back(q);
+  }
+  return out;
+}
 }  // namespace
 
 TEST_CASE("hole metrics: two holes of known size", "[unit][analysis]") {
@@ -449,4 +473,81 @@ TEST_CASE("hole metrics: from a Model, and CSV/JSON output", "[unit][analysis]")
   CHECK(json.str().find("\"field\": \"plastic_strain\", \"time_s\": 2.5e-05") !=
         std::string::npos);
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("hole metrics: a plate made of particles, its holes and the plug it lost",
+          "[unit][analysis]") {
+  // Reference: findParticleHoles (hole_metrics.hpp). The plate of "two holes of known size"
+  // (60 x 40 x 3 mm, a 16 mm and an 8 mm hole of whole 1 mm cube columns) as a body made of
+  // particles, one per tet as fesph makes it. Particles resolve a hole's edge to about their
+  // spacing s (twice the radius): each equivalent diameter within s of the true one, each
+  // centroid within a tenth of s of the true one (the holes are symmetric about their
+  // centres' lines, the particles not quite); the plate whole has no hole, and the plug of the
+  // larger hole pushed out 6 mm behind the plate does not close it, nor failed particles in
+  // place.
+  const HolePlate p = holePlate(-30, -20, 60, 40, 3, {{-15, 0, 8}, {15, 5, 4}});
+  const std::vector<DebrisParticle> particles = particlesOf(p);
+  const double s = 2 * particles.front().radius;
+  REQUIRE(s == Approx(2 * 0.5 * std::cbrt(1e-9 / 6)).epsilon(0.3));  // six tets a cube
+  const Vec3 shift(0, 0, -6e-3);
+  for (const bool plug : {false, true}) {
+    CAPTURE(plug);
+    const PlateHoles h = plug ? findParticleHoles(particlesOf(p, &shift)) : findParticleHoles(particles);
+    REQUIRE(h.holes.size() == 2);
+    CHECK(h.normal.z() == Approx(1.0).margin(1e-9));
+    for (int k = 0; k < 2; ++k) {
+      const double d = std::sqrt(4 * p.true_area[k] / M_PI);
+      CAPTURE(k, h.holes[k].diameter, d, s);
+      CHECK(std::abs(h.holes[k].diameter - d) <= s);
+      CHECK((h.holes[k].centroid - p.true_centroid[k]).norm() <= 0.1 * s);
+      CHECK_FALSE(h.holes[k].on_symmetry);
+    }
+    // the plate's faces: its extreme particle centres and a radius beyond, within a radius
+    CHECK(h.front - h.rear == Approx(3e-3).margin(0.5 * s));
+    CHECK(h.u_max - h.u_min == Approx(60e-3).margin(s));
+    CHECK(h.v_max - h.v_min == Approx(40e-3).margin(s));
+    // the default cell: a quarter of the spacing
+    CHECK(h.cell_size <= 0.25 * s * 1.0001);
+  }
+  const HolePlate whole = holePlate(-30, -20, 60, 40, 3, {});
+  CHECK(findParticleHoles(particlesOf(whole)).holes.empty());
+  CHECK(findParticleHoles({}).holes.empty());
+
+  // The holes' material still in place but failed (damage 1) is debris, as a failed element
+  // is eroded: the holes stay, and the plate proper is the other particles. Damaged but not
+  // failed, it is the plate's, and there is no hole.
+  const Vec3 none = Vec3::Zero();
+  std::vector<DebrisParticle> in_place = particlesOf(p, &none);
+  std::vector<int> failed;
+  for (std::size_t t = 0, i = 0; t < p.mesh.tets.size(); ++t, ++i)
+    if (p.eroded[t]) in_place[i].damage = 1.0, failed.push_back(static_cast<int>(i));
+  REQUIRE(failed.size() > 100);
+  std::vector<int> proper;
+  const PlateHoles h = findParticleHoles(in_place, {}, &proper);
+  REQUIRE(h.holes.size() == 2);
+  CHECK(std::abs(h.holes[0].diameter - std::sqrt(4 * p.true_area[0] / M_PI)) <= s);
+  CHECK(proper.size() == in_place.size() - failed.size());
+  CHECK(std::is_sorted(proper.begin(), proper.end()));
+  for (int i : failed) CHECK_FALSE(std::binary_search(proper.begin(), proper.end(), i));
+  for (int i : failed) in_place[static_cast<std::size_t>(i)].damage = 0.99;
+  CHECK(findParticleHoles(in_place).holes.empty());
+}
+
+TEST_CASE("hole metrics: a half plate made of particles, hole on the symmetry edge",
+          "[unit][analysis]") {
+  // The half plate of "half model, hole on the symmetry edge" (y in [0, 20] mm, a 12 mm hole
+  // centred on y = 0) made of particles: a notch unmirrored; mirrored, one full-plate hole on
+  // the plane, its equivalent diameter within a spacing of the true one.
+  const HolePlate p = holePlate(-30, 0, 60, 20, 3, {{0, 0, 6}}, true);
+  const std::vector<DebrisParticle> particles = particlesOf(p);
+  const double s = 2 * particles.front().radius;
+  CHECK(findParticleHoles(particles).holes.empty());
+  HoleOptions o;
+  o.mirror = true;
+  const PlateHoles h = findParticleHoles(particles, o);
+  REQUIRE(h.holes.size() == 1);
+  CHECK(h.holes[0].on_symmetry);
+  CHECK(std::abs(h.holes[0].diameter - std::sqrt(4 * p.true_area[0] / M_PI)) <= s);
+  CHECK(std::abs(h.holes[0].centroid.y()) <= 0.1 * s);
+  CHECK(h.v_max - h.v_min == Approx(40e-3).margin(s));
 }
