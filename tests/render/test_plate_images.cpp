@@ -8,6 +8,7 @@
 // - only particles near a plate drawn with it, and hidden behind it in the rear view;
 // - the output step nearest the time asked for;
 // - the section view: plastic strain on a half model's symmetry plane, every plate framed.
+#include "render/photo_compare.hpp"
 #include "render/plate_images.hpp"
 #include "render/section_view.hpp"
 #include "render/series_writer.hpp"
@@ -67,6 +68,7 @@ struct RunSpec {
   std::vector<PlateSpec> plates;
   bool half = false;            ///< scene.toml: symmetry = "half" (the plane y = 0)
   std::vector<Vec3> particles;  ///< a particle body "debris" after the plates, 1 mm^3 each
+  std::function<void(PointState&)> debris_fill = [](PointState&) {};  ///< their state
 };
 
 /// The model of a run: the plates (bodies 0, 1, ...) and then the debris particles.
@@ -129,6 +131,9 @@ void writeScene(const fs::path& dir, const RunSpec& spec) {
 void writePlateRun(const fs::path& dir, const RunSpec& spec) {
   Model model = buildRun(spec);
   shapePlates(model, spec);
+  for (std::size_t i = 0; i < model.particles.size(); ++i)
+    if (model.particles.body[i] == static_cast<int>(spec.plates.size()))
+      spec.debris_fill(model.particles.state[i]);
   SeriesWriter(dir).write(model, 10e-6);
   writeScene(dir, spec);
 }
@@ -456,6 +461,30 @@ TEST_CASE("the section view shows plastic strain from 0 on a half model's symmet
   CHECK(img.count(notPlate, 0, 48, 672, c.y - 10) == 0);
 }
 
+TEST_CASE("the section view's colours hold the particles' values", "[unit][render]") {
+  // The plate of "the section view shows plastic strain from 0" (strained 0.4) with particles
+  // on the plane in front of it strained 0.8: the colours span [0, 0.8], the plate in the
+  // middle of the map (teal), not at its top (yellow) with the particles beyond it.
+  unsetenv("DISPLAY");
+  TempFolder dir("section_particles");
+  RunSpec spec;
+  spec.half = true;
+  spec.plates.push_back({"plate", Vec3(-20 * mm, 0, -2 * mm), Vec3(40 * mm, 20 * mm, 2 * mm), 0,
+                         [](const Vec3&, PointState& st) { st.eps_p = 0.4; }});
+  spec.particles = {Vec3(5 * mm, 0, 1 * mm), Vec3(6 * mm, 0, 1 * mm)};
+  spec.debris_fill = [](PointState& st) { st.eps_p = 0.8; };
+  writePlateRun(dir.path, spec);
+  const Image img = readPng(renderSectionView(dir.path.string(), -1, options800x600(),
+                                              (dir.path / "section.png").string()));
+  const Centre c = sceneCentre(img);
+  // the cut plate is the vertical bar through the frame's middle row, left of the particles
+  int x = 17;
+  while (x < c.x && white(img.at(x, c.y))) ++x;
+  REQUIRE(x < c.x);
+  CHECK(brightness(img.at(x + 2, c.y)) < 400);
+  CHECK(brightness(img.at(x + 2, c.y)) > 200);
+}
+
 TEST_CASE("the section view frames every plate along the flight", "[unit][render]") {
   unsetenv("DISPLAY");
   TempFolder dir("section_two");
@@ -570,6 +599,16 @@ TEST_CASE("a plate made of particles is drawn as its particles, coloured, with i
     const auto red = [&](const unsigned char* p) { return near(p, outline, 40); };
     CHECK(static_cast<double>(rear.count(red)) > 0.5 * line_px);
   }
+  // fesph compare measures the plate from its particles too: the hole, the plate's extent.
+  const SimulatedPlate simulated = readSimulatedPlate(dir.path.string(), -1, 0, "plate", false);
+  REQUIRE(simulated.holes.holes.size() == 1);
+  CHECK(std::abs(simulated.holes.holes[0].diameter - std::sqrt(4 * columnArea(6 * mm) / M_PI)) <=
+        1 * mm);
+  CHECK(simulated.half_size.x() == Approx(20 * mm).margin(1 * mm));
+  CHECK(simulated.half_size.y() == Approx(20 * mm).margin(1 * mm));
+  // A body with neither elements nor particles there is named.
+  CHECK_THROWS_WITH(readSimulatedPlate(dir.path.string(), -1, 7, "ghost", false),
+                    Catch::Contains("plate 'ghost' has neither a live element nor a particle"));
 }
 
 TEST_CASE("particles take the field in the colour bar's units, or their body's colour",
