@@ -371,20 +371,12 @@ PlateHoles findParticleHoles(const std::vector<DebrisParticle>& particles, const
     out.v_min = std::min(out.v_min, q.y() - reach * p.radius);
     out.v_max = std::max(out.v_max, q.y() + reach * p.radius);
   }
-  const auto percentile = [&](std::size_t per_cent) {
-    auto at = radius.begin() + static_cast<std::ptrdiff_t>(radius.size() * per_cent / 100);
-    std::nth_element(radius.begin(), at, radius.end());
-    return *at;
-  };
   // A quarter of the fine particles' spacing (twice the radius), as for tets.
-  Raster r = rasterOver(out, o.cell_size > 0 ? o.cell_size : 0.5 * percentile(10), o);
+  auto p10 = radius.begin() + static_cast<std::ptrdiff_t>(radius.size() / 10);
+  std::nth_element(radius.begin(), p10, radius.end());
+  Raster r = rasterOver(out, o.cell_size > 0 ? o.cell_size : 0.5 * *p10, o);
   for (const DebrisParticle& p : kept) r.fillDisc(inPlane(out, p.x), reach * p.radius);
-  // Linked particles round a gap wider than a triangle's leave a speck uncovered (a square's
-  // middle, 0.4 r across): openings under a particle's cross-section are not holes the
-  // particles resolve.
-  HoleOptions resolved = o;
-  if (!(o.min_area > 0)) resolved.min_area = std::max(kPi * std::pow(percentile(50), 2), 4 * r.h * r.h);
-  collectHoles(r, resolved, out);
+  collectHoles(r, o, out);
   return out;
 }
 

@@ -73,9 +73,9 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
 /// debris.hpp's DebrisOptions::link says: |x_i - x_j| <= 1.5 (r_i + r_j)): failed particles,
 /// plugs and fragments that came loose do not close a hole. Each particle of it covers a disc
 /// of sqrt(3) its radius on the mid-plane, which leaves no gap within a triangle of linked
-/// particles; openings smaller than a particle's cross-section (pi r^2, the median radius) are
-/// not holes. A hole's edge is resolved to about a particle spacing (twice the radius); front
-/// and rear are the extreme centres' plus a radius. `proper` (if given) receives the indices
+/// particles. A hole's edge is resolved to about a particle spacing (twice the radius), holes
+/// coming out smaller by about 0.8 of it in diameter; front and rear are the extreme centres'
+/// plus a radius. `proper` (if given) receives the indices
 /// of the plate proper's particles, ascending.
 PlateHoles findParticleHoles(const std::vector<DebrisParticle>& particles,
                              const HoleOptions& options = {}, std::vector<int>* proper = nullptr);

@@ -554,21 +554,22 @@ TEST_CASE("a plate made of particles is drawn as its particles, coloured, with i
   // diameter within a spacing, 1 mm, of the removed columns'); the debris is seen through it
   // in the front view, and the halves are coloured apart by damage and by pressure. The pressure is drawn
   // in the bar's MPa: in Pa, both halves lay beyond the range's top, one colour. The rear
-  // view outlines the hole over the debris flying behind it.
+  // view outlines the hole over the debris flying behind it. Strips of failed particles at
+  // the plate's sides are its debris, not the plate.
   unsetenv("DISPLAY");
   TempFolder dir("plate_of_particles");
   RunSpec spec;
   auto plate = squarePlate("plate", 6 * mm, [](const Vec3& column, PointState& st) {
-    st.damage = column.x() < 0 ? 0.3 : 0.9;
+    st.damage = std::abs(column.x()) > 17 * mm ? 1.0 : column.x() < 0 ? 0.3 : 0.9;
     st.p = column.x() < 0 ? 100e6 : 300e6;
   });
   plate.particles = true;
   spec.plates.push_back(plate);
-  // A cloud of debris 1.5 mm behind the plate over its hole, which hides the hole's outline
-  // from the rear camera unless the outline is drawn over the scene.
-  for (int j = -5; j <= 5; ++j)
-    for (int i = -5; i <= 5; ++i)
-      if (std::hypot(i, j) <= 5) spec.particles.push_back(Vec3(i * mm, j * mm, -3.5 * mm));
+  // A cloud of debris 1.5 mm behind the plate over its hole and rim, which hides the hole's
+  // outline from the rear camera unless the outline is drawn over the scene.
+  for (int j = -8; j <= 8; ++j)
+    for (int i = -8; i <= 8; ++i)
+      if (std::hypot(i, j) <= 8) spec.particles.push_back(Vec3(i * mm, j * mm, -3.5 * mm));
   writePlateRun(dir.path, spec);
   for (const std::string field : {"damage", "pressure"}) {
     CAPTURE(field);
@@ -586,6 +587,11 @@ TEST_CASE("a plate made of particles is drawn as its particles, coloured, with i
     // The image's right is +x (u = v x n with v = y, n = z): the higher values, brighter.
     CHECK(!white(front.at(c.x - d, c.y)));
     CHECK(brightness(front.at(c.x + d, c.y)) > brightness(front.at(c.x - d, c.y)) + 60);
+    // The failed strips (|x| > 17 mm) are the plate's debris, in its body's colour: a failed
+    // particle's centre at (18.5, 0.5) mm.
+    const unsigned char* failed = front.at(c.x + static_cast<int>(18.5 * mm / images[0].pixel_size),
+                                           c.y + static_cast<int>(0.5 * mm / images[0].pixel_size));
+    CHECK(near(failed, debrisColour(0).data(), 60));
     // The rear view: the hole's outline in red over the debris behind the plate (none of it
     // in view when drawn in the scene). Its 3-pixel line follows the particles' scalloped
     // edge, whose wiggles overlap at the pixel's scale: over half its length's pixels.
@@ -604,7 +610,8 @@ TEST_CASE("a plate made of particles is drawn as its particles, coloured, with i
   REQUIRE(simulated.holes.holes.size() == 1);
   CHECK(std::abs(simulated.holes.holes[0].diameter - std::sqrt(4 * columnArea(6 * mm) / M_PI)) <=
         1 * mm);
-  CHECK(simulated.half_size.x() == Approx(20 * mm).margin(1 * mm));
+  // the unfailed part: centres to 16.5 mm off the middle, discs of sqrt(3) r = 0.87 mm
+  CHECK(simulated.half_size.x() == Approx(17.37 * mm).margin(0.05 * mm));
   CHECK(simulated.half_size.y() == Approx(20 * mm).margin(1 * mm));
   // A body with neither elements nor particles there is named.
   CHECK_THROWS_WITH(readSimulatedPlate(dir.path.string(), -1, 7, "ghost", false),

@@ -502,8 +502,10 @@ TEST_CASE("hole metrics: a plate made of particles, its holes and the plug it lo
       CHECK((h.holes[k].centroid - p.true_centroid[k]).norm() <= 0.1 * s);
       CHECK_FALSE(h.holes[k].on_symmetry);
     }
-    // the plate's faces: its extreme particle centres and a radius beyond, within a radius
-    CHECK(h.front - h.rear == Approx(3e-3).margin(0.5 * s));
+    // the plate's faces (1.5 mm either side of its mid-plane): its extreme particle centres
+    // and a radius beyond, within a tenth of a spacing
+    CHECK(h.front == Approx(1.5e-3).margin(0.1 * s));
+    CHECK(h.rear == Approx(-1.5e-3).margin(0.1 * s));
     CHECK(h.u_max - h.u_min == Approx(60e-3).margin(s));
     CHECK(h.v_max - h.v_min == Approx(40e-3).margin(s));
     // the default cell: a quarter of the spacing
