@@ -660,6 +660,21 @@ TEST_CASE("a plate of bonded layers: each of its material, tied, as thick as the
   CHECK(shipped.bodies[1].volume_materials == std::vector<std::string>{"RHA", "Al_6061_T6"});
 }
 
+TEST_CASE("the particle plate template is a plate made of particles, free at its rim",
+          "[unit][scene]") {
+  // scenes/particle_plate: the single plate's shot on a plate made of particles, which has
+  // no nodes to hold (a rim hold would be refused).
+  const Scene sc =
+      loadScene(std::string(FESPH_SCENES_DIR) + "/particle_plate/scene.toml", {}, library());
+  REQUIRE(sc.bodies.size() == 2);
+  CHECK(sc.bodies[0].projectile);
+  CHECK(sc.bodies[0].discretisation == Discretisation::Fem);
+  CHECK(sc.bodies[1].discretisation == Discretisation::Sph);
+  CHECK(sc.fixed.empty());
+  CHECK(sc.half);
+  CHECK(sc.output.folder == "runs/particle_plate");
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
