@@ -570,11 +570,14 @@ std::string holeSummary(const PlateHoles& h) {
   return s + (h.holes.size() > 6 ? ", ... mm" : " mm");
 }
 
-vtkSmartPointer<vtkActor> outlineActor(const PlateHoles& h) {
+// The holes' outlines as lines `width` pixels wide in colour (r, g, b), a hair behind the
+// plate's rear extreme; `under` of them lie a hair further in, seen from the rear beneath
+// the others.
+vtkSmartPointer<vtkActor> outlineActor(const PlateHoles& h, double r, double g, double b,
+                                       double width, bool under) {
   vtkNew<vtkPoints> pts;
   vtkNew<vtkCellArray> lines;
-  // Just behind the rear extreme of the plate, so the rear camera sees the outline on top.
-  const Vec3 shift = (h.rear - 0.05 * (h.front - h.rear)) * h.normal;
+  const Vec3 shift = (h.rear - (under ? 0.04 : 0.05) * (h.front - h.rear)) * h.normal;
   for (const Hole& hole : h.holes) {
     const auto n = static_cast<vtkIdType>(hole.outline.size());
     if (n < 3) continue;
@@ -593,8 +596,8 @@ vtkSmartPointer<vtkActor> outlineActor(const PlateHoles& h) {
   mapper->SetInputData(poly);
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
-  actor->GetProperty()->SetColor(0.89, 0.10, 0.11);
-  actor->GetProperty()->SetLineWidth(3.0);
+  actor->GetProperty()->SetColor(r, g, b);
+  actor->GetProperty()->SetLineWidth(width);
   actor->GetProperty()->LightingOff();
   return actor;
 }
@@ -768,8 +771,8 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
       cam->SetViewUp(h.v.x(), h.v.y(), h.v.z());
       cam->SetParallelScale(scale);
       page.scene->ResetCameraClippingRange();
-      // The hole outlines in a layer over the scene, seen through the debris flying behind
-      // the plate (which hid them in the scene), with a copy of its camera.
+      // The hole outlines in a layer over the scene, seen over the debris flying behind the
+      // plate (which hid them in the scene), with a copy of its camera.
       vtkNew<vtkRenderer> outlines;
       vtkNew<vtkCamera> outline_camera;
       if (rear && options.hole_outlines && !h.holes.empty()) {
@@ -778,7 +781,9 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
         outlines->SetLayer(1);
         outline_camera->DeepCopy(cam);
         outlines->SetActiveCamera(outline_camera);
-        outlines->AddActor(outlineActor(h));
+        // red on a white border: seen on red debris (the projectile's colour) as well
+        outlines->AddActor(outlineActor(h, 1.0, 1.0, 1.0, 7.0, true));
+        outlines->AddActor(outlineActor(h, 0.89, 0.10, 0.11, 3.0, false));
         outlines->ResetCameraClippingRange();
         win.window()->SetNumberOfLayers(2);
         win.window()->AddRenderer(outlines);
