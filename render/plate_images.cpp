@@ -3,8 +3,6 @@
 // page layout, colour maps and particle glyphs the other report images share.
 #include "render/plate_images.hpp"
 
-#include "core/analysis/debris.hpp"
-
 #include "core/common/error.hpp"
 #include "core/common/toml_check.hpp"
 #include "render/osmesa_context.hpp"
