@@ -9,10 +9,14 @@
 
 namespace fesph {
 
-std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time) {
+std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time,
+                                       const std::vector<vtkIdType>& plate_particles) {
   const vtkSmartPointer<vtkPolyData> pd = render_detail::readParticles(run_dir, time);
   std::vector<DebrisParticle> debris;
   if (!pd) return debris;
+  std::vector<char> plate(static_cast<std::size_t>(pd->GetNumberOfPoints()), 0);
+  for (vtkIdType i : plate_particles)
+    if (i >= 0 && i < pd->GetNumberOfPoints()) plate[static_cast<std::size_t>(i)] = 1;
   vtkPointData* data = pd->GetPointData();
   const auto array = [&](const char* name, int components) {
     vtkDataArray* a = data->GetArray(name);
@@ -29,6 +33,7 @@ std::vector<DebrisParticle> readDebris(const std::string& run_dir, double time) 
   vtkDataArray* tied = array("tied", 1);
   for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i) {
     if (tied->GetTuple1(i) != 0) continue;  // held by an element face: still part of a plate
+    if (plate[static_cast<std::size_t>(i)]) continue;  // a plate made of particles, in place
     DebrisParticle q;
     pd->GetPoint(i, q.x.data());
     velocity->GetTuple(i, q.v.data());
@@ -65,7 +70,11 @@ DebrisSummary writeDebrisTable(const std::string& run_dir, double time,
   const RunInfo info = readRunInfo(run_dir);
   DebrisOptions options;
   options.half = info.half;
-  const std::vector<Clump> clumps = findClumps(readDebris(run_dir, time), options);
+  std::vector<vtkIdType> plate_particles;
+  for (const PlateImages& p : images)
+    plate_particles.insert(plate_particles.end(), p.particles.begin(), p.particles.end());
+  const std::vector<Clump> clumps =
+      findClumps(readDebris(run_dir, time, plate_particles), options);
   const std::vector<TargetPlate> plates = targetPlates(images);
   std::vector<std::string> names;
   for (const RunBody& b : info.bodies) names.push_back(b.name);

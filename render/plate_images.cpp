@@ -738,6 +738,7 @@ std::vector<PlateImages> renderPlateImages(const std::string& run_dir, double ti
     images.time = step.time;
     images.pixel_size = pixel_size;
     images.holes = h;
+    images.particles = v.particles;
     for (int side = 0; side < 2; ++side) {
       const bool rear = side == 1;
       OffscreenWindow win(W, H);

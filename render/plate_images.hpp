@@ -56,6 +56,9 @@ struct PlateImages {
   double time = 0;            ///< time of the series step drawn, s
   double pixel_size = 0;      ///< m per pixel in the plate's plane (the same for every plate)
   PlateHoles holes;           ///< through-holes of the plate at that time (full plate)
+  /// A plate made of particles: its plate proper's particles (indices in that step's particle
+  /// series), the plate rather than its debris. Empty for a plate of elements.
+  std::vector<vtkIdType> particles;
 };
 
 /// A field the element series does not hold: the caller's bad input (`fesph render --field`

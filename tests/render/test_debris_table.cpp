@@ -76,3 +76,49 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
   CHECK(row.rfind(expected, 0) == 0);
   CHECK(row.find(",plate,5.25e-05,9.25e-05,0.0005,0.0005,") != std::string::npos);
 }
+
+TEST_CASE("debris table: a plate made of particles is a target, not debris", "[unit][render]") {
+  // The clump of the test above falling on the plate made of particles (1 mm^3 each, 40 x 40
+  // x 2 mm, front face z = 0): the plate's particles are the plate (PlateImages::particles),
+  // so the one clump is the shot's, and it strikes the plate after 52.5 us at (0.5, 0.5, 0)
+  // mm. The plate was listed as a clump of free particles of its own.
+  constexpr double mm = 1e-3;
+  Model model;
+  model.materials.push_back(testing::elasticMaterial());
+  std::vector<Vec3> lattice;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 40; ++j)
+      for (int i = 0; i < 40; ++i) lattice.push_back(mm * Vec3(i - 19.5, j - 19.5, -k - 0.5));
+  addParticleBody(model, "plate", lattice, std::vector<double>(lattice.size(), mm * mm * mm), 0,
+                  Vec3::Zero(), false);
+  std::vector<Vec3> x;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) x.push_back(mm * Vec3(i, j, 10 + k));
+  addParticleBody(model, "shot", x, std::vector<double>(x.size(), mm * mm * mm), 0,
+                  Vec3(0, 0, -200), true);
+  finaliseModel(model);
+  testing::TempFolder dir("debris_particle_plate");
+  SeriesWriter(dir.path).write(model, 40e-6);
+  std::ofstream(dir.path / "scene.toml") << "[[bodies]]\nname = \"plate\"\n"
+                                            "[[bodies]]\nname = \"shot\"\nprojectile = true\n";
+  ImageOptions options;
+  options.width = 320;
+  options.height = 240;
+  const std::vector<PlateImages> images =
+      renderPlateImages(dir.path.string(), -1, options, (dir.path / "images").string());
+  REQUIRE(images.size() == 1);
+  CHECK(images[0].particles.size() == lattice.size());
+  const DebrisSummary s =
+      writeDebrisTable(dir.path.string(), images[0].time, images, (dir.path / "images").string());
+  CHECK(s.clumps == 1);
+  CHECK(s.strikes == 1);
+  std::ifstream in(dir.path / "images" / "debris.csv");
+  std::string header, row;
+  REQUIRE(std::getline(in, header));
+  REQUIRE(std::getline(in, row));
+  INFO(row);
+  CHECK(row.rfind("4e-05,shot,1,8,", 0) == 0);
+  // its front face: the particles' centres at z = -0.5 mm and a radius beyond
+  CHECK(row.find(",plate,5.25e-05,9.25e-05,0.0005,0.0005,") != std::string::npos);
+}
