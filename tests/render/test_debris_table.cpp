@@ -17,6 +17,36 @@
 using namespace fesph;
 namespace fs = std::filesystem;
 
+namespace {
+
+/// The run's plate images (small) and its debris table at their time: the summary, and the
+/// table's first row in `row`.
+DebrisSummary debrisOf(const fs::path& run, std::vector<PlateImages>& images, std::string& row) {
+  ImageOptions options;
+  options.width = 320;
+  options.height = 240;
+  images = renderPlateImages(run.string(), -1, options, (run / "images").string());
+  REQUIRE(images.size() == 1);
+  const DebrisSummary s = writeDebrisTable(run.string(), images[0].time, images,
+                                           (run / "images").string());
+  std::ifstream in(run / "images" / "debris.csv");
+  std::string header;
+  REQUIRE(std::getline(in, header));
+  std::getline(in, row);
+  return s;
+}
+
+/// A 2 x 2 x 2 lattice of 1 mm particles whose lowest layer is 10 mm above z = 0.
+std::vector<Vec3> shotLattice() {
+  std::vector<Vec3> x;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) x.push_back(1e-3 * Vec3(i, j, 10 + k));
+  return x;
+}
+
+}  // namespace
+
 TEST_CASE("debris table: a clump of free particles on course for a plate", "[unit][render]") {
   // Reference: kinematics. A 2 x 2 x 2 lattice of 1 mm particles (centroid 10.5 mm above the
   // plate's front face z = 0) falls at 200 m/s onto a 40 x 40 x 2 mm plate: one clump of 8,
@@ -32,10 +62,7 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
   addBody(model, "bullet", structuredBox(Vec3(100 * mm, 0, 5 * mm), Vec3(4 * mm, 4 * mm, 8 * mm), 1, 1, 2),
           0, Placement{}, Vec3::Zero(), true);
   finaliseModel(model);
-  std::vector<Vec3> x;
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) x.push_back(mm * Vec3(i, j, 10 + k));
+  std::vector<Vec3> x = shotLattice();
   x.push_back(mm * Vec3(2, 0, 10));
   addParticleBody(model, "shot", x, std::vector<double>(x.size(), mm * mm * mm), 0,
                   Vec3(0, 0, -200), true);
@@ -48,26 +75,17 @@ TEST_CASE("debris table: a clump of free particles on course for a plate", "[uni
 
   const std::vector<DebrisParticle> debris = readDebris(dir.path.string(), -1);
   REQUIRE(debris.size() == 8);  // the tied one left out
-  ImageOptions options;
-  options.width = 320;
-  options.height = 240;
-  const std::vector<PlateImages> images =
-      renderPlateImages(dir.path.string(), -1, options, (dir.path / "images").string());
-  REQUIRE(images.size() == 1);
+  std::vector<PlateImages> images;
+  std::string row;
+  const DebrisSummary s = debrisOf(dir.path, images, row);
   const std::vector<TargetPlate> plates = targetPlates(images);
   REQUIRE(plates[0].body == 0);
   CHECK(plates[0].half_u == Approx(20 * mm).epsilon(1e-9));
   CHECK(plates[0].half_v == Approx(20 * mm).epsilon(1e-9));
   CHECK((plates[0].centre - Vec3(0, 0, -1 * mm)).norm() < 1e-9);  // on the mid-plane
 
-  const DebrisSummary s =
-      writeDebrisTable(dir.path.string(), images[0].time, images, (dir.path / "images").string());
   CHECK(s.clumps == 1);
   CHECK(s.strikes == 1);
-  std::ifstream in(dir.path / "images" / "debris.csv");
-  std::string header, row;
-  REQUIRE(std::getline(in, header));
-  REQUIRE(std::getline(in, row));
   INFO(row);
   const double m = model.particles.m[0];
   char expected[160];
@@ -91,10 +109,7 @@ TEST_CASE("debris table: a plate made of particles is a target, not debris", "[u
       for (int i = 0; i < 40; ++i) lattice.push_back(mm * Vec3(i - 19.5, j - 19.5, -k - 0.5));
   addParticleBody(model, "plate", lattice, std::vector<double>(lattice.size(), mm * mm * mm), 0,
                   Vec3::Zero(), false);
-  std::vector<Vec3> x;
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) x.push_back(mm * Vec3(i, j, 10 + k));
+  const std::vector<Vec3> x = shotLattice();
   addParticleBody(model, "shot", x, std::vector<double>(x.size(), mm * mm * mm), 0,
                   Vec3(0, 0, -200), true);
   finaliseModel(model);
@@ -102,21 +117,12 @@ TEST_CASE("debris table: a plate made of particles is a target, not debris", "[u
   SeriesWriter(dir.path).write(model, 40e-6);
   std::ofstream(dir.path / "scene.toml") << "[[bodies]]\nname = \"plate\"\n"
                                             "[[bodies]]\nname = \"shot\"\nprojectile = true\n";
-  ImageOptions options;
-  options.width = 320;
-  options.height = 240;
-  const std::vector<PlateImages> images =
-      renderPlateImages(dir.path.string(), -1, options, (dir.path / "images").string());
-  REQUIRE(images.size() == 1);
+  std::vector<PlateImages> images;
+  std::string row;
+  const DebrisSummary s = debrisOf(dir.path, images, row);
   CHECK(images[0].particles.size() == lattice.size());
-  const DebrisSummary s =
-      writeDebrisTable(dir.path.string(), images[0].time, images, (dir.path / "images").string());
   CHECK(s.clumps == 1);
   CHECK(s.strikes == 1);
-  std::ifstream in(dir.path / "images" / "debris.csv");
-  std::string header, row;
-  REQUIRE(std::getline(in, header));
-  REQUIRE(std::getline(in, row));
   INFO(row);
   CHECK(row.rfind("4e-05,shot,1,8,", 0) == 0);
   // its front face: the particles' centres at z = -0.5 mm and a radius beyond
