@@ -510,6 +510,15 @@ std::string runStanding(const std::string& dir) {
   }
 }
 
+/// The session's state at its time as a run folder of one output step: its series (the
+/// materials named by the scene's ids) and its scene.toml, in `dir`.
+void writeState(const RunSession& s, const std::string& dir) {
+  SeriesOptions options;
+  options.material_names = s.scene().material_ids;
+  SeriesWriter(dir, options).write(s.model(), s.model().time);
+  std::ofstream(fs::path(dir) / "scene.toml") << s.scene().text;
+}
+
 }  // namespace
 
 void Workbench::show(const std::vector<std::string>& a) {
@@ -725,10 +734,7 @@ std::string Workbench::currentState(RunInfo& info, double& time) {
   if (!scene_path_.empty()) {
     RunSession& s = session();
     const std::string dir = (fs::path(s.folder()) / "shell" / "state").string();
-    SeriesOptions options;
-    options.material_names = s.scene().material_ids;
-    SeriesWriter(dir, options).write(s.model(), s.model().time);
-    std::ofstream(fs::path(dir) / "scene.toml") << s.scene().text;
+    writeState(s, dir);
     info = infoOf(s.model(), s.scene().half);
     time = s.model().time;
     return dir;
@@ -922,10 +928,7 @@ void Workbench::exportCmd(const std::vector<std::string>& a) {
     RunSession& s = session();
     const std::string dir = a.size() == 2 ? a[1]
                                           : (fs::path(s.folder()) / "export" / timeDir(s.model().time)).string();
-    SeriesOptions options;
-    options.material_names = s.scene().material_ids;
-    SeriesWriter(dir, options).write(s.model(), s.model().time);
-    std::ofstream(fs::path(dir) / "scene.toml") << s.scene().text;
+    writeState(s, dir);
     std::printf("%s/elements.pvd, %s/particles.pvd (t = %.6g s)\n", dir.c_str(), dir.c_str(),
                 s.model().time);
     return;

@@ -273,10 +273,6 @@ void collectHoles(const Raster& r, const HoleOptions& o, PlateHoles& out) {
             [](const Hole& a, const Hole& b) { return a.area > b.area; });
 }
 
-Eigen::Vector2d inPlane(const PlateHoles& frame, const Vec3& p) {
-  return {(p - frame.origin).dot(frame.u), (p - frame.origin).dot(frame.v)};
-}
-
 }  // namespace
 
 PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<int, 4>>& tets,
@@ -300,7 +296,7 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
   out.u_min = out.v_min = 1e300;
   out.u_max = out.v_max = -1e300;
   for (const Vec3& p : pts) {
-    const Eigen::Vector2d q = inPlane(out, p);
+    const Eigen::Vector2d q = out.inPlane(p);
     out.u_min = std::min(out.u_min, q.x()), out.u_max = std::max(out.u_max, q.x());
     out.v_min = std::min(out.v_min, q.y()), out.v_max = std::max(out.v_max, q.y());
   }
@@ -310,7 +306,7 @@ PlateHoles findHoles(const std::vector<Vec3>& x, const std::vector<std::array<in
       Eigen::Vector2d q[4];
       for (int k = 0; k < 4; ++k) {
         const Vec3& p = x[tets[e][k]];
-        q[k] = inPlane(out, copy == 0 ? p : mirrored(p, o));
+        q[k] = out.inPlane(copy == 0 ? p : mirrored(p, o));
       }
       // The projected tet is the hull of its four projected corners, which the three faces
       // at any one corner cover (a fan from a corner of the hull, or around it when inside).
@@ -365,7 +361,7 @@ PlateHoles findParticleHoles(const std::vector<DebrisParticle>& particles, const
   out.u_min = out.v_min = 1e300;
   out.u_max = out.v_max = -1e300;
   for (const DebrisParticle& p : kept) {
-    const Eigen::Vector2d q = inPlane(out, p.x);
+    const Eigen::Vector2d q = out.inPlane(p.x);
     out.u_min = std::min(out.u_min, q.x() - reach * p.radius);
     out.u_max = std::max(out.u_max, q.x() + reach * p.radius);
     out.v_min = std::min(out.v_min, q.y() - reach * p.radius);
@@ -375,7 +371,7 @@ PlateHoles findParticleHoles(const std::vector<DebrisParticle>& particles, const
   auto p10 = radius.begin() + static_cast<std::ptrdiff_t>(radius.size() / 10);
   std::nth_element(radius.begin(), p10, radius.end());
   Raster r = rasterOver(out, o.cell_size > 0 ? o.cell_size : 0.5 * *p10, o);
-  for (const DebrisParticle& p : kept) r.fillDisc(inPlane(out, p.x), reach * p.radius);
+  for (const DebrisParticle& p : kept) r.fillDisc(out.inPlane(p.x), reach * p.radius);
   collectHoles(r, o, out);
   return out;
 }

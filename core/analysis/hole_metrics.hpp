@@ -54,6 +54,10 @@ struct PlateHoles {
   double cell_size = 0;              ///< raster cell edge used, m
   std::vector<Hole> holes;           ///< largest first
 
+  /// The u and v coordinates of `p` from `origin` (p projected on the mid-plane), m.
+  Eigen::Vector2d inPlane(const Vec3& p) const {
+    return {(p - origin).dot(u), (p - origin).dot(v)};
+  }
   /// Middle of the plate proper's extent, on the plane through `origin`, m.
   Vec3 extentCentre() const {
     return origin + 0.5 * (u_min + u_max) * u + 0.5 * (v_min + v_max) * v;

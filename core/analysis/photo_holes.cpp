@@ -35,10 +35,6 @@ GrayImage smoothed(const GrayImage& in) {
 
 int binOf(float v) { return std::clamp(static_cast<int>(v * kBins), 0, kBins - 1); }
 
-Eigen::Vector2d inPlane(const PlateHoles& h, const Vec3& p) {
-  return {(p - h.origin).dot(h.u), (p - h.origin).dot(h.v)};
-}
-
 }  // namespace
 
 double otsuThreshold(const GrayImage& image) {
@@ -147,7 +143,7 @@ SimulatedPlate simulatedPlate(const std::vector<Vec3>& x,
     for (int m = 0; m < (options.mirror ? 2 : 1); ++m) {
       Vec3 p = x[k];
       if (m == 1) p[options.symmetry_axis] = 2 * options.symmetry_position - p[options.symmetry_axis];
-      const Eigen::Vector2d q = inPlane(out.holes, p);
+      const Eigen::Vector2d q = out.holes.inPlane(p);
       lo = lo.cwiseMin(q);
       hi = hi.cwiseMax(q);
     }
@@ -216,7 +212,7 @@ HoleComparison compareHoles(const PhotoSegmentation& photo, const SimulatedPlate
     throw std::invalid_argument("the photograph's scale must be a positive length per pixel");
   const PlateHoles& sim = plate.holes;
   // Plate coordinates from the plate's centre: what an experimenter measures from.
-  const auto local = [&](const Vec3& p) { return Eigen::Vector2d(inPlane(sim, p) - plate.centre); };
+  const auto local = [&](const Vec3& p) { return Eigen::Vector2d(sim.inPlane(p) - plate.centre); };
   HoleComparison out;
   PhotoFrame& f = out.frame;
   f.m_per_px = o.m_per_px;
