@@ -60,17 +60,28 @@ std::string csvField(const std::string& text) {
   return out + "\"";
 }
 
+/// One projectile's rows of residual_velocities.csv: after each plate, NaN where not measured.
+struct ProjectileCrossings {
+  std::string name;                      ///< empty in a table older than its projectile column
+  std::vector<double> residual;          ///< the intact piece's speed, m/s
+  std::vector<double> piece_fraction;    ///< its share of the initial mass
+  std::vector<double> through_velocity;  ///< all projectile material through the plate, m/s
+  std::vector<double> through_fraction;  ///< its share of the initial mass
+};
+
 struct ReportRun {
   fs::path dir;
   std::string kind;             ///< e.g. "FE-SPH 0.4"
   std::string label;            ///< e.g. "FE-SPH 0.4 (quick, main)": kind, resolution, folder
   Scene scene;                  ///< the scene as run
   toml::table summary;          ///< summary.toml (empty when the run wrote none)
-  std::vector<double> residual; ///< after each plate, m/s; NaN: not measured
-  std::vector<double> piece_fraction;    ///< the intact piece's share of the initial mass
-  std::vector<double> through_velocity;  ///< all projectile material through the plate, m/s
-  std::vector<double> through_fraction;  ///< its share of the initial mass
-  std::string measured;         ///< the projectile the crossings measure (empty: not written)
+  /// Each projectile's crossings in the order of the scene's bodies; the first is the one
+  /// compared with the experiment.
+  std::vector<ProjectileCrossings> projectiles;
+  const ProjectileCrossings& compared() const {
+    static const ProjectileCrossings none;
+    return projectiles.empty() ? none : projectiles.front();
+  }
 };
 
 /// The run's label with `shown` for its folder (its name, or more of its path).
@@ -117,11 +128,15 @@ ReportRun readRun(const fs::path& dir) {
       const auto it = row.find(key);
       return it != row.end() && !it->second.empty() ? std::stod(it->second) : std::nan("");
     };
-    r.residual.push_back(number("residual_velocity_m_s"));
-    r.piece_fraction.push_back(number("mass_fraction"));
-    r.through_velocity.push_back(number("through_velocity_m_s"));
-    r.through_fraction.push_back(number("through_mass_fraction"));
-    if (const auto it = row.find("projectile"); it != row.end()) r.measured = it->second;
+    const auto named = row.find("projectile");
+    const std::string name = named != row.end() ? named->second : std::string();
+    if (r.projectiles.empty() || r.projectiles.back().name != name)  // a projectile's rows in a block
+      r.projectiles.push_back({name, {}, {}, {}, {}});
+    ProjectileCrossings& p = r.projectiles.back();
+    p.residual.push_back(number("residual_velocity_m_s"));
+    p.piece_fraction.push_back(number("mass_fraction"));
+    p.through_velocity.push_back(number("through_velocity_m_s"));
+    p.through_fraction.push_back(number("through_mass_fraction"));
   }
   return r;
 }
@@ -266,7 +281,8 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   const Scene& first = runs.front().scene;
   const ReferenceData& ref = first.reference;
   std::size_t plates = ref.experiment.size();
-  for (const ReportRun& r : runs) plates = std::max(plates, r.residual.size());
+  for (const ReportRun& r : runs)
+    for (const ProjectileCrossings& p : r.projectiles) plates = std::max(plates, p.residual.size());
 
   // Table 1 as CSV and markdown.
   std::ofstream csv(out / "table1.csv");
@@ -305,9 +321,9 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
       csv << "," << velocity(at(v, k));
     }
     for (const ReportRun& r : runs) {
-      md << " " << velocity(at(r.residual, k)) << " | "
-         << error(at(r.residual, k), experimentFor(r, ref, k)) << " |";
-      csv << "," << velocity(at(r.residual, k));
+      const std::vector<double>& v = r.compared().residual;
+      md << " " << velocity(at(v, k)) << " | " << error(at(v, k), experimentFor(r, ref, k)) << " |";
+      csv << "," << velocity(at(v, k));
     }
     md << "\n";
     csv << "\n";
@@ -319,39 +335,40 @@ void writeReport(const std::vector<ReportRun>& runs, const fs::path& out) {
   if (!others.empty())
     md << "\nRuns of another scene than the first (their scene's [reference] differs): " << others
        << ". Their velocities are shown, not compared with this experiment.\n";
-  for (const ReportRun& r : runs) {
-    long projectiles = 0;
-    for (const SceneBody& b : r.scene.bodies) projectiles += b.projectile;
-    if (projectiles > 1)
-      md << "\n" << r.label << " has " << projectiles << " projectiles; its residual velocities "
-         << "are those of " << (r.measured.empty() ? "" : "'" + r.measured + "', ")
-         << "the scene's first.\n";
-  }
+  for (const ReportRun& r : runs)
+    if (r.projectiles.size() > 1)
+      md << "\n" << r.label << " has " << r.projectiles.size() << " projectiles; the table gives "
+         << "the scene's first, '" << r.compared().name << "'; the next section gives each one.\n";
 
   // What of the projectile got through each plate: the intact piece against all its material.
   std::ofstream through_csv(out / "through.csv");
   through_csv << "plate,run,piece_velocity_m_s,piece_mass_fraction,through_velocity_m_s,"
-                 "through_mass_fraction\n";
+                 "through_mass_fraction,projectile\n";
   md << "\n## What of the projectile got through each plate\n\n"
      << "At the instant v_k is taken: the largest intact piece (its speed is v_k) and all the "
         "projectile's material past the plate's rear face (live elements and the particles born "
         "from its elements, or the particles it is made of), each with its share of the "
         "projectile's initial mass; the second velocity is that material's momentum over its "
         "mass, with its error against the experiment's v_k. Where the projectile breaks up, "
-        "its intact rear goes on faster than the material the plate slowed.\n\n"
+        "its intact rear goes on faster than the material the plate slowed. A run with several "
+        "projectiles has a row for each, its name after the run's; only the scene's first is "
+        "compared with the experiment.\n\n"
      << "| plate | run | intact piece | its mass | all material through | error | its mass |\n"
         "|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < plates; ++k)
-    for (const ReportRun& r : runs) {
-      const double v_all = at(r.through_velocity, k);
-      md << "| v" << k + 1 << " | " << r.label << " | " << velocity(at(r.residual, k)) << " | "
-         << percent(at(r.piece_fraction, k)) << " | " << velocity(v_all) << " | "
-         << error(v_all, experimentFor(r, ref, k)) << " | " << percent(at(r.through_fraction, k))
-         << " |\n";
-      through_csv << k + 1 << "," << csvField(r.label) << "," << velocity(at(r.residual, k)) << ","
-                  << at(r.piece_fraction, k) << "," << velocity(v_all) << ","
-                  << at(r.through_fraction, k) << "\n";
-    }
+    for (const ReportRun& r : runs)
+      for (const ProjectileCrossings& p : r.projectiles) {
+        const bool first = &p == &r.projectiles.front();
+        const std::string who = r.projectiles.size() > 1 ? r.label + " '" + p.name + "'" : r.label;
+        const double v_all = at(p.through_velocity, k);
+        md << "| v" << k + 1 << " | " << who << " | " << velocity(at(p.residual, k)) << " | "
+           << percent(at(p.piece_fraction, k)) << " | " << velocity(v_all) << " | "
+           << error(v_all, first ? experimentFor(r, ref, k) : std::nan("")) << " | "
+           << percent(at(p.through_fraction, k)) << " |\n";
+        through_csv << k + 1 << "," << csvField(r.label) << "," << velocity(at(p.residual, k))
+                    << "," << at(p.piece_fraction, k) << "," << velocity(v_all) << ","
+                    << at(p.through_fraction, k) << "," << csvField(p.name) << "\n";
+      }
 
   // Runs: settings, cost, energy budget.
   std::ofstream runs_csv(out / "runs.csv");

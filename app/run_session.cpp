@@ -75,13 +75,13 @@ void RunSession::open(const std::string& scene_path, const std::vector<std::stri
     }
     throw;
   }
-  crossings_ = std::make_unique<PlateCrossings>(scene_, model_);
-  if (log && crossings_->headsAway()) {
-    const Body& shot = model_.bodies[crossings_->projectile()];
-    const Vec3 v = bodyMeanVelocity(model_, crossings_->projectile());
-    *log << scene_path << ":" << scene_.bodies[crossings_->projectile()].line
-         << ": warning: projectile '" << shot.name << "' moves away from every plate, at ("
-         << v.x() << ", " << v.y() << ", " << v.z()
+  crossings_ = allPlateCrossings(scene_, model_);
+  for (const PlateCrossings& c : crossings_) {
+    if (!log || !c.headsAway()) continue;
+    const Vec3 v = bodyMeanVelocity(model_, c.projectile());
+    *log << scene_path << ":" << scene_.bodies[c.projectile()].line << ": warning: projectile '"
+         << c.projectileName() << "' moves away from every plate, at (" << v.x() << ", "
+         << v.y() << ", " << v.z()
          << ") m/s: no plate will be crossed (is the velocity's sign right?)" << std::endl;
   }
 
@@ -143,9 +143,9 @@ void RunSession::restart(const std::string& checkpoint, const std::vector<std::s
          << scene_.title << ") from " << checkpoint << " at t = " << model_.time << " s, step "
          << model_.step << std::endl;
   }
-  const int measured = saved.crossings_projectile;
-  crossings_ = std::make_unique<PlateCrossings>(
-      saved.crossings, measured, measured >= 0 ? model_.bodies[measured].name : std::string());
+  crossings_.clear();
+  for (const CrossingsRecord& c : saved.crossings)
+    crossings_.emplace_back(c.plates, c.projectile, model_.bodies[c.projectile].name);
   // The series and histories go on in the checkpoint's own run folder; another folder gets
   // fresh ones, starting at the checkpoint.
   std::error_code ec;
@@ -259,8 +259,7 @@ RunProgress RunSession::progress() const {
   p.next_checkpoint = next_checkpoint_;
   p.history_rows = static_cast<long>(history_h5_->rows());
   p.history_last_row = history_->lastRow();
-  p.crossings = crossings_->plates();
-  p.crossings_projectile = crossings_->projectile();
+  for (const PlateCrossings& c : crossings_) p.crossings.push_back({c.projectile(), c.plates()});
   return p;
 }
 
@@ -307,7 +306,7 @@ bool RunSession::complete() const { return reached(model_.time, endTime()); }
 void RunSession::writeOutput() {
   series_->write(model_, model_.time);
   last_output_time_ = model_.time;
-  crossings_->writeCsv(folder() + "/residual_velocities.csv");
+  writeCrossingsCsv(folder() + "/residual_velocities.csv", crossings_);
   // A run killed outright (SIGKILL, the machine going down) cannot write its summary at the
   // end: this one, at its last output, says how far it got instead of an earlier segment's.
   writeSummary(folder() + "/summary.toml", "running");
@@ -328,7 +327,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
       if (complete()) return StopReason::EndTime;
       if (stop && stop->load()) {
         // the crossings since the last output are in memory only: keep them with the checkpoint
-        crossings_->writeCsv(folder() + "/residual_velocities.csv");
+        writeCrossingsCsv(folder() + "/residual_velocities.csv", crossings_);
         return StopReason::Interrupted;
       }
       if ((max_steps >= 0 && done >= max_steps) || model_.time >= until_time)
@@ -340,7 +339,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
       wall_solver_ +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
       element_steps_ += static_cast<double>(liveElements(model_));
-      crossings_->update(model_);
+      for (PlateCrossings& c : crossings_) c.update(model_);
       if (model_.energy.step % scene_.output.history_every == 0) recordHistory();  // 0, n, 2n...
       if (reached(model_.time, t_stop)) {
         if (t_stop == next_output_ || complete()) {
@@ -365,7 +364,7 @@ StopReason RunSession::advance(double until_time, long max_steps,
       failure_ += std::string(" (and the last history row was not written: ") + h.what() + ")";
     }
     try {
-      crossings_->writeCsv(folder() + "/residual_velocities.csv");
+      writeCrossingsCsv(folder() + "/residual_velocities.csv", crossings_);
     } catch (const RunError& c) {
       failure_ += std::string(" (and the residual velocities were not rewritten: ") + c.what() +
                   ")";
@@ -432,12 +431,17 @@ void RunSession::writeSummary(const std::string& path, const std::string& status
   replaceFile(path, out.str());  // a reader never sees half a summary
 }
 
-bool RunSession::measured(int body) const { return body == crossings_->projectile(); }
+const PlateCrossings* RunSession::crossingsOf(int body) const {
+  for (const PlateCrossings& c : crossings_)
+    if (c.projectile() == body) return &c;
+  return nullptr;
+}
 
 const char* RunSession::clearance(int body, const ResidualVelocity& r) const {
   if (!r.cleared) return "not clear of the targets yet";
   // Nothing ahead of a projectile that never reached a plate: it went the other way.
-  if (measured(body) && crossings_->reachedNone())
+  const PlateCrossings* c = crossingsOf(body);
+  if (c && c->reachedNone())
     return "no target ahead of it, and it has reached none";
   return "it has cleared every target";
 }
@@ -477,25 +481,23 @@ void RunSession::printSummary() const {
     std::printf("  residual velocity %.1f m/s (largest intact piece, %.1f %% of the initial "
                 "mass; %s)\n",
                 r.speed, 100 * r.mass_fraction, clearance(static_cast<int>(b), r));
-  }
-  const auto& plates = crossings_->plates();
-  long projectiles = 0;
-  for (const Body& body : model.bodies) projectiles += body.is_projectile;
-  if (projectiles > 1 && !plates.empty())
-    std::printf("  plate crossings  of projectile '%s', the scene's first of %ld projectiles\n",
-                crossings_->projectileName().c_str(), projectiles);
-  for (std::size_t k = 0; k < plates.size(); ++k) {
-    const PlateCrossing& p = plates[k];
-    if (p.t_measured >= 0) {
-      std::printf("  after plate %zu    %.1f m/s at t = %.4g s ('%s'; piece %.1f %% of the mass)\n",
-                  k + 1, p.speed, p.t_measured, p.name.c_str(), 100 * p.mass_fraction);
-      if (std::isfinite(p.through_mass_fraction))
-        std::printf("                   all projectile material through it: %.1f m/s, %.1f %% of "
-                    "the mass\n",
-                    p.through_velocity.norm(), 100 * p.through_mass_fraction);
-    } else
-      std::printf("  after plate %zu    not measured (%s)\n", k + 1,
-                  p.t_contact >= 0 ? "hit, not through yet" : "not reached");
+    const PlateCrossings* crossings = crossingsOf(static_cast<int>(b));
+    if (!crossings) continue;
+    const auto& plates = crossings->plates();
+    for (std::size_t k = 0; k < plates.size(); ++k) {
+      const PlateCrossing& p = plates[k];
+      if (p.t_measured >= 0) {
+        std::printf("  after plate %zu    %.1f m/s at t = %.4g s ('%s'; piece %.1f %% of the "
+                    "mass)\n",
+                    k + 1, p.speed, p.t_measured, p.name.c_str(), 100 * p.mass_fraction);
+        if (std::isfinite(p.through_mass_fraction))
+          std::printf("                   all projectile material through it: %.1f m/s, %.1f %% "
+                      "of the mass\n",
+                      p.through_velocity.norm(), 100 * p.through_mass_fraction);
+      } else
+        std::printf("  after plate %zu    not measured (%s)\n", k + 1,
+                    p.t_contact >= 0 ? "hit, not through yet" : "not reached");
+    }
   }
   for (const SymmetryLeak& leak : particlesAcrossSymmetry(model, scene_.symmetry))
     if (leak.particles > 0)

@@ -22,7 +22,6 @@
 namespace fesph {
 
 class SeriesWriter;
-class PlateCrossings;
 struct ResidualVelocity;
 
 /// Said of a model with symmetry planes beside its energies, momentum and masses (its
@@ -101,14 +100,15 @@ class RunSession {
   const Model& model() const { return model_; }
   Model& model() { return model_; }
   const Scene& scene() const { return scene_; }
-  /// Residual velocity after each plate (plate_crossings.hpp), as measured so far.
-  const PlateCrossings& crossings() const { return *crossings_; }
+  /// Residual velocity after each plate (plate_crossings.hpp), as measured so far: one
+  /// tracking per projectile, in the order of the bodies.
+  const std::vector<PlateCrossings>& crossings() const { return crossings_; }
+  /// The tracking of projectile `body`; null for a body that is none.
+  const PlateCrossings* crossingsOf(int body) const;
   /// How the largest piece `r` of projectile `body` stands to the targets, in words: not clear
-  /// of them yet, clear of every one, or clear of them without having reached any (the one the
-  /// plate crossings measure, shot away from the plates).
+  /// of them yet, clear of every one, or clear of them without having reached any (shot away
+  /// from the plates).
   const char* clearance(int body, const ResidualVelocity& r) const;
-  /// Whether the plate crossings measure projectile `body` (the scene's first).
-  bool measured(int body) const;
   const std::string& folder() const { return scene_.output.folder; }
   double endTime() const { return model_.controls.end_time; }
 
@@ -128,7 +128,7 @@ class RunSession {
   Model model_;
   std::unique_ptr<SeriesWriter> series_;
   std::unique_ptr<HistoryCsv> history_;
-  std::unique_ptr<PlateCrossings> crossings_;
+  std::vector<PlateCrossings> crossings_;
   std::unique_ptr<HistoryH5> history_h5_;
   std::function<void(const Model&)> on_step_;
   std::ostream* log_ = nullptr;  ///< open's log, for the output started later

@@ -785,6 +785,11 @@ void Workbench::probe(const std::vector<std::string>& a) {
     const Body& body = m.bodies[b];
     if (!body.is_projectile) continue;
     const Vec3 v = bodyMeanVelocity(m, static_cast<int>(b));
+    // Its plates; none for all but the first after a restart from a checkpoint of format 13
+    // or older (their projectiles are not tracked).
+    const PlateCrossings* crossings = session().crossingsOf(static_cast<int>(b));
+    const std::vector<PlateCrossing> plates =
+        crossings ? crossings->plates() : std::vector<PlateCrossing>{};
     // Centre of mass, and the nose: the most advanced point along the flight, on the axis
     // through the centre of mass.
     double mass = 0;
@@ -813,10 +818,8 @@ void Workbench::probe(const std::vector<std::string>& a) {
       const ResidualVelocity r = residualVelocity(m, static_cast<int>(b));
       std::printf("  residual        %.2f m/s (largest intact piece, %.1f %% of the mass; %s)\n", r.speed,
                   100 * r.mass_fraction, session().clearance(static_cast<int>(b), r));
-      // How far the piece's leading node still is from the next measuring plane: of the
-      // projectile the plate crossings measure (another's v_k is never taken).
-      for (const PlateCrossing& p : session().crossings().plates()) {
-        if (!session().measured(static_cast<int>(b))) break;
+      // How far the piece's leading node still is from its next measuring plane.
+      for (const PlateCrossing& p : plates) {
         if (p.t_measured >= 0) continue;
         const std::vector<Piece> pieces = bodyPieces(m, static_cast<int>(b));
         if (pieces.empty()) break;
@@ -827,11 +830,11 @@ void Workbench::probe(const std::vector<std::string>& a) {
     }
     // Where its material is: a projectile that breaks up leaves its debris at the plates.
     const std::vector<MaterialRegion> regions =
-        materialByRegion(m, session().crossings().plates(), static_cast<int>(b));
+        materialByRegion(m, plates, static_cast<int>(b));
     if (!regions.empty())
       std::printf("  where it is     region: live nodes g (v along the flight m/s) | particles g "
                   "(v m/s, mean distance from the shot line mm)\n");
-    const Vec3 n = regions.empty() ? Vec3::Zero() : session().crossings().plates()[0].normal;
+    const Vec3 n = regions.empty() ? Vec3::Zero() : plates[0].normal;
     for (const MaterialRegion& g : regions) {
       if (g.nodes.mass == 0 && g.particles.mass == 0) continue;
       char nodes[64] = "-", particles[64] = "-";

@@ -110,10 +110,11 @@ std::vector<MaterialRegion> materialByRegion(const Model& model,
   return regions;
 }
 
-PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
-  for (std::size_t b = 0; b < model.bodies.size(); ++b)
-    if (model.bodies[b].is_projectile && projectile_ < 0) projectile_ = static_cast<int>(b);
-  if (projectile_ < 0) return;
+PlateCrossings::PlateCrossings(const Scene& scene, const Model& model, int body) {
+  if (body < 0 || static_cast<std::size_t>(body) >= model.bodies.size() ||
+      !model.bodies[body].is_projectile)
+    return;
+  projectile_ = body;
   const Body& pb = model.bodies[projectile_];
   projectile_name_ = pb.name;
   // Its nodes, or the particles of a body made of them (no others exist at the start).
@@ -142,7 +143,7 @@ PlateCrossings::PlateCrossings(const Scene& scene, const Model& model) {
 
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const auto* spec = std::get_if<PlateSpec>(&scene.bodies[b].shape);
-    if (!spec || static_cast<int>(b) == projectile_) continue;
+    if (!spec || model.bodies[b].is_projectile) continue;  // a projectile is no target
     PlateCrossing p;
     p.body = static_cast<int>(b);
     p.name = scene.bodies[b].name;
@@ -201,10 +202,8 @@ void PlateCrossings::update(const Model& model) {
   }
 }
 
-void PlateCrossings::writeCsv(const std::string& path) const {
-  std::string text =
-      "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
-      "mass_fraction,through_velocity_m_s,through_mass_fraction,projectile\n";
+std::string PlateCrossings::csvRows() const {
+  std::string text;
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const PlateCrossing& p = plates_[k];
     char row[512];
@@ -224,6 +223,21 @@ void PlateCrossings::writeCsv(const std::string& path) const {
     text += row;
     text += "," + projectile_name_ + "\n";
   }
+  return text;
+}
+
+std::vector<PlateCrossings> allPlateCrossings(const Scene& scene, const Model& model) {
+  std::vector<PlateCrossings> all;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b)
+    if (model.bodies[b].is_projectile) all.emplace_back(scene, model, static_cast<int>(b));
+  return all;
+}
+
+void writeCrossingsCsv(const std::string& path, const std::vector<PlateCrossings>& crossings) {
+  std::string text =
+      "plate,name,t_contact_s,t_measured_s,residual_velocity_m_s,vx_m_s,vy_m_s,vz_m_s,"
+      "mass_fraction,through_velocity_m_s,through_mass_fraction,projectile\n";
+  for (const PlateCrossings& c : crossings) text += c.csvRows();
   // rewritten at every output: through a temporary, so that a run killed mid-write keeps the
   // last complete table, and a write that fails stops the run instead of losing it silently
   replaceFile(path, text);

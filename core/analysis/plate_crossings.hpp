@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Residual velocity after each plate of a spaced-plate target, the one definition used by the
-// run summary, residual_velocities.csv and the report:
+// run summary, residual_velocities.csv and the report, taken for each projectile of a scene:
 //
 //   v_k = speed of the projectile's largest intact piece (fragments.hpp) at the first instant
 //         its leading node (of a projectile made of particles: its leading particle) reaches
@@ -82,10 +82,10 @@ std::vector<MaterialRegion> materialByRegion(const Model& model,
 
 class PlateCrossings {
  public:
-  /// The plates of `scene` (bodies with a plate shape) in the order the projectile meets them
-  /// (along its initial velocity). The projectile measured is the first body marked as one;
-  /// no projectile or no plate: nothing is tracked.
-  PlateCrossings(const Scene& scene, const Model& model);
+  /// The plates of `scene` (bodies with a plate shape, projectiles left out) in the order
+  /// projectile `body` meets them (along its initial velocity). A body that is no projectile,
+  /// or no plate: nothing is tracked.
+  PlateCrossings(const Scene& scene, const Model& model, int body);
   /// Continue a tracking saved with a checkpoint: `plates()` and `projectile()` as they were,
   /// and the projectile's name.
   PlateCrossings(std::vector<PlateCrossing> plates, int projectile, std::string projectile_name);
@@ -99,10 +99,9 @@ class PlateCrossings {
   bool headsAway() const { return heads_away_; }
   /// There are plates and the projectile has reached none of them (yet).
   bool reachedNone() const;
-  /// residual_velocities.csv: one row per plate, empty fields where nothing was measured; its
-  /// last column names the projectile measured.
-  /// Replaces the file whole; throws RunError naming it if it cannot be written.
-  void writeCsv(const std::string& path) const;
+  /// Its rows of residual_velocities.csv (writeCrossingsCsv): one per plate, empty fields
+  /// where nothing was measured, the last column naming the projectile.
+  std::string csvRows() const;
 
  private:
   std::vector<PlateCrossing> plates_;
@@ -111,5 +110,13 @@ class PlateCrossings {
   bool heads_away_ = false;
   std::size_t next_ = 0;  ///< the first plate not measured yet
 };
+
+/// One tracking per projectile of `scene`, in the order of its bodies: each projectile's v_k
+/// at the plates along its own flight.
+std::vector<PlateCrossings> allPlateCrossings(const Scene& scene, const Model& model);
+
+/// residual_velocities.csv: a header, then each tracking's rows (csvRows), projectile after
+/// projectile. Replaces the file whole; throws RunError naming it if it cannot be written.
+void writeCrossingsCsv(const std::string& path, const std::vector<PlateCrossings>& crossings);
 
 }  // namespace fesph

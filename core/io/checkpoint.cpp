@@ -44,7 +44,9 @@ constexpr const char* kFormat = "fesph checkpoint";
 //    their restart does not check the folder's history against it.
 // 13: the energy budget's step (EnergyBudget::step), which labels the history's rows; older
 //     files take the step before the model's.
-constexpr std::int64_t kFormatVersion = 13;
+// 14: the plate crossings of every projectile (RunProgress::crossings), a group each; older
+//     files hold the scene's first projectile's only, in the crossings group itself.
+constexpr std::int64_t kFormatVersion = 14;
 // Format 2 is still read: its pair_stab is recomputed (restorePairStabilisation).
 constexpr std::int64_t kOldestReadable = 2;
 
@@ -488,6 +490,31 @@ template <class Ar> void transfer(Ar& ar, Model& m) {
   if (Ar::reading && ar.version < 13) m.energy.step = std::max(0L, m.step - 1);
 }
 
+// One projectile's residual-velocity tracking: its body and its plates.
+template <class Ar> void transfer(Ar& ar, CrossingsRecord& c) {
+  ar.value("projectile", c.projectile);
+  c.plates.resize(ar.count("count", c.plates.size()));
+  for (std::size_t k = 0; k < c.plates.size(); ++k) {
+    PlateCrossing& p = c.plates[k];
+    ar.enter(std::to_string(k));
+    ar.value("body", p.body);
+    ar.value("name", p.name);
+    ar.value("normal", p.normal);
+    ar.value("front", p.front);
+    ar.value("velocity", p.velocity);
+    const std::pair<const char*, double*> numbers[] = {
+        {"thickness", &p.thickness}, {"measure_depth", &p.measure_depth},
+        {"t_contact", &p.t_contact}, {"t_measured", &p.t_measured}, {"speed", &p.speed},
+        {"mass_fraction", &p.mass_fraction}};
+    for (auto [key, x] : numbers) ar.value(key, *x);
+    if (ar.version >= 4) {  // format 3 leaves them unknown (NaN)
+      ar.value("through_velocity", p.through_velocity);
+      ar.value("through_mass_fraction", p.through_mass_fraction);
+    }
+    ar.leave();
+  }
+}
+
 template <class Ar> void transfer(Ar& ar, RunProgress& r) {
   ar.enter("run");
   ar.text("scene_text", r.scene_text);
@@ -509,26 +536,17 @@ template <class Ar> void transfer(Ar& ar, RunProgress& r) {
   ar.value("history_rows", r.history_rows);
   if (ar.version >= 12) ar.value("history_last_row", r.history_last_row);
   ar.enter("crossings");
-  ar.value("projectile", r.crossings_projectile);
-  r.crossings.resize(ar.count("count", r.crossings.size()));
-  for (std::size_t k = 0; k < r.crossings.size(); ++k) {
-    PlateCrossing& p = r.crossings[k];
-    ar.enter(std::to_string(k));
-    ar.value("body", p.body);
-    ar.value("name", p.name);
-    ar.value("normal", p.normal);
-    ar.value("front", p.front);
-    ar.value("velocity", p.velocity);
-    const std::pair<const char*, double*> numbers[] = {
-        {"thickness", &p.thickness}, {"measure_depth", &p.measure_depth},
-        {"t_contact", &p.t_contact}, {"t_measured", &p.t_measured}, {"speed", &p.speed},
-        {"mass_fraction", &p.mass_fraction}};
-    for (auto [key, x] : numbers) ar.value(key, *x);
-    if (ar.version >= 4) {  // format 3 leaves them unknown (NaN)
-      ar.value("through_velocity", p.through_velocity);
-      ar.value("through_mass_fraction", p.through_mass_fraction);
+  if (ar.version >= 14) {
+    r.crossings.resize(ar.count("projectiles", r.crossings.size()));
+    for (std::size_t s = 0; s < r.crossings.size(); ++s) {
+      ar.enter("projectile_" + std::to_string(s));
+      transfer(ar, r.crossings[s]);
+      ar.leave();
     }
-    ar.leave();
+  } else {  // the scene's first projectile's, or none (-1)
+    r.crossings.resize(1);
+    transfer(ar, r.crossings[0]);
+    if (r.crossings[0].projectile < 0) r.crossings.clear();
   }
   ar.leave();
   ar.leave();
@@ -617,11 +635,13 @@ void checkConsistent(const Model& m, const RunProgress& run, const std::string& 
       if (k != n) fail("SPH snapshot arrays of different lengths");
     if (n > np) fail("SPH snapshot of more particles than the model has");
   }
-  // The residual-velocity tracking indexes bodies: the projectile (-1: none) and each plate.
-  if (run.crossings_projectile < -1 || run.crossings_projectile >= static_cast<int>(nb))
-    fail("plate crossings' projectile");
-  for (const PlateCrossing& p : run.crossings)
-    if (p.body < 0 || static_cast<std::size_t>(p.body) >= nb) fail("plate crossings' plate");
+  // The residual-velocity tracking indexes bodies: each projectile and its plates.
+  for (const CrossingsRecord& c : run.crossings) {
+    if (c.projectile < 0 || c.projectile >= static_cast<int>(nb))
+      fail("plate crossings' projectile");
+    for (const PlateCrossing& p : c.plates)
+      if (p.body < 0 || static_cast<std::size_t>(p.body) >= nb) fail("plate crossings' plate");
+  }
 }
 
 }  // namespace

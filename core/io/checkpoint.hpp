@@ -13,6 +13,12 @@
 
 namespace fesph {
 
+/// One projectile's residual-velocity tracking (plate_crossings.hpp), as a checkpoint keeps it.
+struct CrossingsRecord {
+  int projectile = -1;                ///< its body
+  std::vector<PlateCrossing> plates;  ///< in the order it meets them
+};
+
 /// What a run needs besides the Model to continue its outputs.
 struct RunProgress {
   std::string scene_text;        ///< the scene file's text
@@ -26,8 +32,7 @@ struct RunProgress {
   long history_rows = 0;         ///< rows in history.csv and run.h5
   /// history.csv's last row at the checkpoint ("" when not known: format 11 and older)
   std::string history_last_row;
-  std::vector<PlateCrossing> crossings;  ///< residual velocity tracking (plate_crossings.hpp)
-  int crossings_projectile = -1;
+  std::vector<CrossingsRecord> crossings;  ///< one per projectile, in the order of the bodies
 };
 
 /// Write `model` and `run` to `path` (through `path`.tmp and a rename). Throws RunError.

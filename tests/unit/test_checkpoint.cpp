@@ -188,6 +188,29 @@ void dropEnergyStep(const h5::Handle& file) {
   REQUIRE(H5Adelete_by_name(file.id(), "/energy", "step", H5P_DEFAULT) >= 0);
 }
 
+/// Formats 13 and older keep the first projectile's plate crossings in /run/crossings itself
+/// (its body, -1 for none, and its plates as groups "0", "1", ...), where format 14 keeps a
+/// group per projectile. Lays the file's first projectile's out so, or none if it has none.
+void crossingsOfFormat13(const h5::Handle& file) {
+  REQUIRE(H5Lmove(file.id(), "/run/crossings", file.id(), "/run/crossings14", H5P_DEFAULT,
+                  H5P_DEFAULT) >= 0);
+  const h5::Handle old = h5::createGroup(h5::openGroup(file, "run"), "crossings");
+  const h5::Handle now = h5::openGroup(file, "/run/crossings14");
+  if (h5::readIntAttribute(now, "projectiles") == 0) {
+    h5::writeAttribute(old, "projectile", std::int64_t{-1});
+    h5::writeAttribute(old, "count", std::int64_t{0});
+  } else {
+    const h5::Handle first = h5::openGroup(now, "projectile_0");
+    const std::int64_t plates = h5::readIntAttribute(first, "count");
+    h5::writeAttribute(old, "projectile", h5::readIntAttribute(first, "projectile"));
+    h5::writeAttribute(old, "count", plates);
+    for (std::int64_t k = 0; k < plates; ++k)
+      REQUIRE(H5Lmove(first.id(), std::to_string(k).c_str(), old.id(), std::to_string(k).c_str(),
+                      H5P_DEFAULT, H5P_DEFAULT) >= 0);
+  }
+  REQUIRE(H5Ldelete(file.id(), "/run/crossings14", H5P_DEFAULT) >= 0);
+}
+
 /// Read from a file of format 10 or older, the volume rate is 0 (its first step weights the
 /// forces with the particles' volumes of t^{n-1}, as the code that wrote it did). The one
 /// `first` kept is put back, so that the rest of the file can be checked bit for bit.
@@ -307,7 +330,6 @@ void setSentinels(Model& m, RunProgress& r) {
   r.next_output = 4.7e-6;
   r.next_checkpoint = 4.8e-6;
   r.history_rows = 49;
-  r.crossings_projectile = 0;
   PlateCrossing p;
   p.body = 1;
   p.name = "plate_50";
@@ -322,7 +344,11 @@ void setSentinels(Model& m, RunProgress& r) {
   p.mass_fraction = 0.62;
   p.through_velocity = Vec3(63, 64, 65);
   p.through_mass_fraction = 0.66;
-  r.crossings = {p};
+  PlateCrossing q = p;  // a second projectile's: the plate met again, later, slower
+  q.t_contact = 6.7e-6;
+  q.t_measured = 6.8e-6;
+  q.speed = 69;
+  r.crossings = {{0, {p}}, {1, {q, p}}};
 }
 
 }  // namespace
@@ -519,9 +545,13 @@ TEST_CASE("every quantity a checkpoint stores reads back bit for bit", "[unit][c
   CHECK(same(ra.next_output, rb.next_output));
   CHECK(same(ra.next_checkpoint, rb.next_checkpoint));
   CHECK(same(ra.history_rows, rb.history_rows));
-  CHECK(same(ra.crossings_projectile, rb.crossings_projectile));
-  REQUIRE(rb.crossings.size() == 1);
-  const PlateCrossing &x = ra.crossings[0], &y = rb.crossings[0];
+  REQUIRE(rb.crossings.size() == ra.crossings.size());
+  for (std::size_t s = 0; s < ra.crossings.size(); ++s) {
+    CHECK(same(ra.crossings[s].projectile, rb.crossings[s].projectile));
+    REQUIRE(rb.crossings[s].plates.size() == ra.crossings[s].plates.size());
+  }
+  CHECK(same(rb.crossings[1].plates[0].speed, 69.0));  // each projectile's own table
+  const PlateCrossing &x = ra.crossings[0].plates[0], &y = rb.crossings[0].plates[0];
   CHECK(same(x.body, y.body));
   CHECK(same(x.name, y.name));
   CHECK(same(x.normal, y.normal));
@@ -533,6 +563,39 @@ TEST_CASE("every quantity a checkpoint stores reads back bit for bit", "[unit][c
                       {x.speed, y.speed}, {x.mass_fraction, y.mass_fraction},
                       {x.through_mass_fraction, y.through_mass_fraction}})
     CHECK(same(u, v));
+}
+
+TEST_CASE("a checkpoint of format 13 gives back its one projectile's plate crossings",
+          "[unit][checkpoint]") {
+  // Format 14 keeps every projectile's table; older files hold the scene's first one's, in
+  // another layout, and a restart from them tracks that one only.
+  const SplitRun& run = splitRun();
+  Model a = run.first;
+  RunProgress ra;
+  setSentinels(a, ra);
+  REQUIRE(ra.crossings.size() == 2);
+  testing::TempFolder dir("checkpoint_format13");
+  const std::string path = checkpointPath(dir.path.string(), a.step);
+  for (const bool none : {false, true}) {
+    if (none) ra.crossings.clear();
+    writeCheckpoint(path, a, ra);
+    {
+      const h5::Handle f = h5::openFile(path, h5::Mode::ReadWrite);
+      crossingsOfFormat13(f);
+      h5::writeAttribute(f, "format_version", std::int64_t{13});
+    }
+    RunProgress rb;
+    readCheckpoint(path, rb);
+    if (none) {
+      CHECK(rb.crossings.empty());  // a scene without a projectile: nothing tracked
+      continue;
+    }
+    REQUIRE(rb.crossings.size() == 1);
+    CHECK(rb.crossings[0].projectile == 0);
+    REQUIRE(rb.crossings[0].plates.size() == 1);
+    CHECK(rb.crossings[0].plates[0].name == "plate_50");
+    CHECK(rb.crossings[0].plates[0].speed == 61);
+  }
 }
 
 TEST_CASE("a checkpoint whose parts do not fit together is refused naming the part",
@@ -580,21 +643,24 @@ TEST_CASE("a checkpoint whose parts do not fit together is refused naming the pa
     INFO(error);
     CHECK(error.find(path + ": inconsistent checkpoint: " + c.what) != std::string::npos);
   }
-  // The residual-velocity tracking's body indices: the projectile's and each plate's.
+  // The residual-velocity tracking's body indices: each projectile's and each of its plates'
+  // (broken in the second projectile's tracking: every one is checked, not the first only).
   const int nb = static_cast<int>(good.bodies.size());
   for (const auto& [projectile, plate, what] :
-       {std::tuple{nb, 0, "plate crossings' projectile"}, std::tuple{-2, 0, "plate crossings' projectile"},
+       {std::tuple{nb, 0, "plate crossings' projectile"}, std::tuple{-1, 0, "plate crossings' projectile"},
         std::tuple{0, nb, "plate crossings' plate"}, std::tuple{0, -1, "plate crossings' plate"}}) {
     RunProgress run;
-    run.crossings_projectile = projectile;
-    run.crossings.resize(1);
-    run.crossings[0].body = plate;
+    run.crossings.resize(2);
+    run.crossings[0] = {0, {PlateCrossing{}}};
+    run.crossings[0].plates[0].body = 0;
+    run.crossings[1] = {projectile, {PlateCrossing{}}};
+    run.crossings[1].plates[0].body = plate;
     writeCheckpoint(path, good, run);
     const std::string error = checkpointError(path);
     INFO(error);
     CHECK(error.find(path + ": inconsistent checkpoint: " + what) != std::string::npos);
-    run.crossings_projectile = nb - 1;
-    run.crossings[0].body = nb - 1;
+    run.crossings[1].projectile = nb - 1;
+    run.crossings[1].plates[0].body = nb - 1;
     writeCheckpoint(path, good, run);
     CHECK(checkpointError(path).empty());
   }
@@ -674,6 +740,7 @@ TEST_CASE("a checkpoint of format 2 (no pair stabilisation forces) continues bit
     REQUIRE(H5Ldelete(f.id(), "/sph/pair_stab", H5P_DEFAULT) >= 0);
     dropVolumeRate(f);
     dropEnergyStep(f);
+    crossingsOfFormat13(f);
     h5::writeAttribute(f, "format_version", std::int64_t{2});
   }
   RunProgress read;
@@ -741,6 +808,7 @@ TEST_CASE("checkpoints of formats 6 to 8 (with scratch arrays) continue bit-iden
       }
       dropVolumeRate(f);
       dropEnergyStep(f);
+      crossingsOfFormat13(f);
       h5::writeAttribute(f, "format_version", version);
     }
     RunProgress read;

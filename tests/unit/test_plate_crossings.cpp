@@ -100,7 +100,7 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   const fs::path dir = fs::temp_directory_path() / "fesph_crossings";
   const Scene sc = crossingsScene("fesph_crossings");
   Model m = buildModel(sc);
-  PlateCrossings crossings(sc, m);
+  PlateCrossings crossings(sc, m, 0);
   REQUIRE(crossings.plates().size() == 2);
   CHECK(crossings.plates()[0].name == "first");
   CHECK(crossings.plates()[1].name == "second");
@@ -122,7 +122,7 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
     CHECK(c.through_velocity.norm() == Approx(1000.0).epsilon(1e-9));
     CHECK(c.through_mass_fraction == Approx(1.0).epsilon(1e-12));
   }
-  crossings.writeCsv((dir / "rv.csv").string());
+  writeCrossingsCsv((dir / "rv.csv").string(), {crossings});
   std::ifstream in(dir / "rv.csv");
   std::stringstream ss;
   ss << in.rdbuf();
@@ -133,13 +133,76 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
 
   // A table that cannot be written is an error naming the file, and the last one stays whole.
   fs::create_directories(dir / "rv.csv.tmp");  // a folder where the temporary must go
-  CHECK_THROWS_WITH(crossings.writeCsv((dir / "rv.csv").string()),
+  CHECK_THROWS_WITH(writeCrossingsCsv((dir / "rv.csv").string(), {crossings}),
                     Catch::Contains((dir / "rv.csv.tmp").string()));
   std::ifstream again(dir / "rv.csv");
   std::stringstream kept;
   kept << again.rdbuf();
   CHECK(kept.str() == ss.str());
   fs::remove_all(dir / "rv.csv.tmp");
+}
+
+TEST_CASE("each projectile of a scene is measured at the plates", "[unit][analysis]") {
+  // Reference: plate_crossings.hpp, applied to each projectile. A second one, "slow", flies
+  // beside the first at 500 m/s, its nose at z = -3 mm: nothing slows either, so each one's v_k
+  // is its own speed, and its events come when its nose has flown to the planes of the scene
+  // above: contact with the first plate at z = -5 mm after 4 us, v_1 at -15 mm after 24 us,
+  // contact with the second at -15 mm after 24 us, v_2 at -25 mm after 44 us, after the end.
+  std::string text = kScene;
+  text += R"(
+[[bodies]]
+name = "slow"
+material = "steel_4340"
+projectile = true
+velocity = [0, 0, -500]
+position = [20e-3, 0, -3e-3]
+[bodies.shape]
+type = "projectile"
+diameter = 4e-3
+length = 6e-3
+mesh_size = 2e-3
+)";
+  const fs::path dir = fs::temp_directory_path() / "fesph_crossings_two";
+  const Scene sc = crossingsScene("fesph_crossings_two", text);
+  Model m = buildModel(sc);
+  std::vector<PlateCrossings> all = allPlateCrossings(sc, m);
+  REQUIRE(all.size() == 2);
+  CHECK(all[0].projectileName() == "shot");
+  CHECK(all[1].projectileName() == "slow");
+  CHECK(all[1].projectile() == 3);
+  for (const PlateCrossings& c : all) {  // the plates only: a projectile is no target
+    REQUIRE(c.plates().size() == 2);
+    CHECK(c.plates()[0].name == "first");
+    CHECK(c.plates()[1].name == "second");
+  }
+  double dt_max = 0;
+  while (m.time < m.controls.end_time * (1 - 1e-12)) {
+    step(m, m.controls.end_time);
+    dt_max = std::max(dt_max, m.dt);
+    for (PlateCrossings& c : all) c.update(m);
+  }
+  for (const PlateCrossing& p : all[0].plates()) CHECK(p.speed == Approx(1000.0).epsilon(1e-9));
+  const auto& slow = all[1].plates();
+  CHECK(slow[0].t_contact == Approx(4e-6).margin(dt_max));
+  CHECK(slow[0].t_measured == Approx(24e-6).margin(dt_max));
+  CHECK(slow[0].speed == Approx(500.0).epsilon(1e-9));
+  CHECK(slow[0].mass_fraction == Approx(1.0).epsilon(1e-12));
+  CHECK(slow[1].t_contact == Approx(24e-6).margin(dt_max));
+  CHECK(slow[1].t_measured < 0);
+
+  // residual_velocities.csv: the shot's rows, then the slow one's, each naming its projectile.
+  writeCrossingsCsv((dir / "rv.csv").string(), all);
+  std::ifstream in(dir / "rv.csv");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string csv = ss.str();
+  const std::size_t slow_rows = csv.find("\n1,first,", csv.find(",shot\n2,second,"));
+  REQUIRE(slow_rows != std::string::npos);
+  CHECK(csv.find(",500,", slow_rows) != std::string::npos);
+  CHECK(csv.find(",slow\n2,second,", slow_rows) != std::string::npos);
+  const std::string contact_only = ",,,,,,,,,slow\n";  // the last row: nothing measured
+  REQUIRE(csv.size() > contact_only.size());
+  CHECK(csv.substr(csv.size() - contact_only.size()) == contact_only);
 }
 
 TEST_CASE("a projectile made of particles is measured at the plates as one of elements is",
@@ -171,7 +234,7 @@ TEST_CASE("a projectile made of particles is measured at the plates as one of el
   CHECK(pieces[0].particles.size() == m.particles.size());
   CHECK(pieces[0].mass == Approx(mass).epsilon(1e-12));
 
-  PlateCrossings crossings(sc, m);
+  PlateCrossings crossings(sc, m, 0);
   REQUIRE(crossings.plates().size() == 2);
   CHECK(crossings.projectileName() == "shot");
   const double dt_max = runToEnd(m, crossings);
@@ -198,7 +261,7 @@ TEST_CASE("a continued run keeps the plates measured before it", "[unit][analysi
   // hand, its nose past the first plate's plane (-15 mm) only, then past the second's (-25 mm).
   const Scene sc = crossingsScene("fesph_crossings_continued");
   Model m = buildModel(sc);
-  std::vector<PlateCrossing> plates = PlateCrossings(sc, m).plates();
+  std::vector<PlateCrossing> plates = PlateCrossings(sc, m, 0).plates();
   REQUIRE(plates.size() == 2);
   plates[0].t_contact = 4e-6;
   plates[0].t_measured = 5e-6;
@@ -229,11 +292,11 @@ TEST_CASE("a projectile that moves away from every plate is told apart", "[unit]
   // along its velocity. The shot of the scene above towards its plates, then turned round.
   std::string text = kScene;
   const Scene towards = crossingsScene("fesph_crossings_towards", text);
-  CHECK_FALSE(PlateCrossings(towards, buildModel(towards)).headsAway());
+  CHECK_FALSE(PlateCrossings(towards, buildModel(towards), 0).headsAway());
   const std::string v = "velocity = [0, 0, -1000]";
   text.replace(text.find(v), v.size(), "velocity = [0, 0, 1000]");
   const Scene away = crossingsScene("fesph_crossings_away", text);
-  const PlateCrossings crossings(away, buildModel(away));
+  const PlateCrossings crossings(away, buildModel(away), 0);
   CHECK(crossings.headsAway());
   CHECK(crossings.plates().size() == 2);
 }
@@ -245,7 +308,7 @@ TEST_CASE("a node without mass does not touch a plate", "[unit][analysis]") {
   // node with mass placed there does.
   const Scene sc = crossingsScene("fesph_crossings_massless");
   Model m = buildModel(sc);
-  PlateCrossings crossings(sc, m);
+  PlateCrossings crossings(sc, m, 0);
   const std::size_t orphan = m.bodies[0].node_begin, live = orphan + 1;
   m.nodes.m[orphan] = 0;
   m.nodes.x[orphan].z() = -6e-3;
@@ -258,14 +321,13 @@ TEST_CASE("a node without mass does not touch a plate", "[unit][analysis]") {
   CHECK(crossings.plates()[0].t_contact == 2e-6);
 }
 
-TEST_CASE("the first projectile is measured and named, and behind a lone plate a projectile length on",
+TEST_CASE("each projectile is measured and named, and behind a lone plate a projectile length on",
           "[unit][analysis]") {
-  // Reference: plate_crossings.hpp: v_k is the first projectile's (in scene order); the
+  // Reference: plate_crossings.hpp: each projectile has its own v_k, in scene order; the
   // measuring plane lies a clear gap behind the rear face, and with no second plate to make a
   // gap, the projectile's length along its flight. One plate 2 mm thick, front at z = -5 mm;
   // the shot (6 mm long, 1000 m/s) and a decoy projectile beside it (12 mm, 500 m/s): the
-  // plane is 2 + 6 = 8 mm behind the front face, and v_1 the shot's. The decoy listed first is
-  // the one measured.
+  // shot's plane is 2 + 6 = 8 mm behind the front face, the decoy's 2 + 12 = 14 mm.
   std::string text = kScene;
   const std::size_t second = text.find("[[bodies]]\nname = \"second\"");
   const std::size_t first = text.find("[[bodies]]\nname = \"first\"");
@@ -284,23 +346,45 @@ diameter = 4e-3
 length = 12e-3
 mesh_size = 3e-3
 )";
-  {  // the decoy listed first is the one measured, and named so (12 mm long: plane 14 mm on)
+  {  // the decoy listed first comes first, named so (12 mm long: plane 14 mm on)
     const std::size_t bodies = text.find("[[bodies]]");
     const Scene sc = crossingsScene("fesph_crossings_decoy_first",
                                     text.substr(0, bodies) + decoy + text.substr(bodies));
     const Model m = buildModel(sc);
-    const PlateCrossings crossings(sc, m);
-    CHECK(crossings.projectileName() == "decoy");
-    CHECK(m.bodies[crossings.projectile()].name == "decoy");
-    REQUIRE(crossings.plates().size() == 1);
-    CHECK(crossings.plates()[0].measure_depth == Approx(14e-3).epsilon(1e-12));
+    const std::vector<PlateCrossings> all = allPlateCrossings(sc, m);
+    REQUIRE(all.size() == 2);
+    CHECK(all[0].projectileName() == "decoy");
+    CHECK(m.bodies[all[0].projectile()].name == "decoy");
+    CHECK(all[1].projectileName() == "shot");
+    REQUIRE(all[0].plates().size() == 1);
+    CHECK(all[0].plates()[0].measure_depth == Approx(14e-3).epsilon(1e-12));
+    REQUIRE(all[1].plates().size() == 1);
+    CHECK(all[1].plates()[0].measure_depth == Approx(8e-3).epsilon(1e-12));
+    // a body that is no projectile is not tracked
+    const PlateCrossings plate(sc, m, 2);
+    REQUIRE(m.bodies[2].name == "first");
+    CHECK(plate.projectile() == -1);
+    CHECK(plate.plates().empty());
+  }
+  {  // a projectile of a plate's shape (a flyer plate) is no target of the other one
+    std::string flyer = decoy;
+    const std::size_t shape = flyer.find("type = \"projectile\"");
+    flyer.replace(shape, flyer.size() - shape,
+                  "type = \"plate\"\nsize_x = 6e-3\nsize_y = 6e-3\nthickness = 2e-3\n"
+                  "mesh_size = 3e-3\ncoarse_size = 3e-3\n");
+    const Scene sc = crossingsScene("fesph_crossings_flyer", text + flyer);
+    const Model m = buildModel(sc);
+    const std::vector<PlateCrossings> all = allPlateCrossings(sc, m);
+    REQUIRE(all.size() == 2);
+    REQUIRE(all[0].plates().size() == 1);
+    CHECK(all[0].plates()[0].name == "first");
   }
   text += decoy;
   const Scene sc = crossingsScene("fesph_crossings_lone", text);
   Model m = buildModel(sc);
   REQUIRE(m.bodies.size() == 3);
   REQUIRE(m.bodies[2].is_projectile);
-  PlateCrossings crossings(sc, m);
+  PlateCrossings crossings(sc, m, 0);
   CHECK(crossings.projectileName() == "shot");
   REQUIRE(crossings.plates().size() == 1);
   CHECK(crossings.plates()[0].measure_depth == Approx(8e-3).epsilon(1e-12));
@@ -326,7 +410,7 @@ TEST_CASE("v_k is the largest piece's, taken when it reaches the measuring plane
   //    the two pieces' (past the rear face), not the particles'.
   const Scene sc = crossingsScene("fesph_crossings_pieces");
   Model m = buildModel(sc);
-  PlateCrossings crossings(sc, m);
+  PlateCrossings crossings(sc, m, 0);
   m.controls.conversion.mode = ConversionMode::Sph;
   const int shot = 0;
   const Body& b = m.bodies[shot];

@@ -143,7 +143,8 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // The CSV files a spreadsheet opens: run labels hold commas, so they are quoted.
   const auto through = csvTable(tmp.path / "rep" / "through.csv");
   REQUIRE(through.size() == 5);
-  CHECK(through[3] == std::vector<std::string>{"2", "FE (default, fe)", "1000.0", "1", "1000.0", "1"});
+  CHECK(through[3] ==
+        std::vector<std::string>{"2", "FE (default, fe)", "1000.0", "1", "1000.0", "1", "shot"});
   const auto table = csvTable(tmp.path / "rep" / "table1.csv");
   REQUIRE(table.size() == 3);
   CHECK(table[0] == std::vector<std::string>{"plate", "experiment_m_s", "another code_m_s",
@@ -210,7 +211,7 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   // A run folder named with a trailing slash is the same run; a run of a scene with more
   // plates than the first run's (its residual velocities: a third row) gets its own rows.
   std::ofstream(tmp.path / "ero" / "residual_velocities.csv", std::ios::app)
-      << "3,third,3.1e-05,3.6e-05,900,0,0,-900,0.5,850,0.8\n";
+      << "3,third,3.1e-05,3.6e-05,900,0,0,-900,0.5,850,0.8,shot\n";
   REQUIRE(run("report " + (tmp.path / "fe").string() + "/ " + (tmp.path / "ero").string() +
               " --out " + (tmp.path / "rep_more").string()) == 0);
   const std::string more = read(tmp.path / "rep_more" / "report.md");
@@ -222,7 +223,27 @@ TEST_CASE("fesph report compares runs with the scene's reference", "[unit][repor
   CHECK(more.find("| v3 | erosion 0.4 (default, ero) | 900.0 | 50.0 % | 850.0 | - | 80.0 % |") !=
         std::string::npos);
   CHECK(csvTable(tmp.path / "rep_more" / "through.csv").back() ==
-        std::vector<std::string>{"3", "erosion 0.4 (default, ero)", "900.0", "0.5", "850.0", "0.8"});
+        std::vector<std::string>{"3", "erosion 0.4 (default, ero)", "900.0", "0.5", "850.0", "0.8",
+                                 "shot"});
+
+  // A second projectile's rows, as a run with two writes them after the first's: a row of its
+  // own under what got through, not compared with the experiment (no error), while the table
+  // of v_k stays the first projectile's.
+  std::ofstream(tmp.path / "ero" / "residual_velocities.csv", std::ios::app)
+      << "1,first,1e-05,1.5e-05,700,0,0,-700,1,600,1,tail\n";
+  REQUIRE(report({"ero"}, "rep_two") == 0);
+  const std::string two = read(tmp.path / "rep_two" / "report.md");
+  CHECK(two.find("erosion 0.4 (default, ero) has 2 projectiles; the table gives the scene's "
+                 "first, 'shot'; the next section gives each one.") != std::string::npos);
+  CHECK(two.find("| v1 | erosion 0.4 (default, ero) 'tail' | 700.0 | 100.0 % | 600.0 | - | "
+                 "100.0 % |") != std::string::npos);
+  CHECK(two.find("| v1 | erosion 0.4 (default, ero) 'shot' | ") != std::string::npos);
+  CHECK(two.find("| v3 | erosion 0.4 (default, ero) 'shot' | 900.0 | 50.0 % | 850.0 | - | "
+                 "80.0 % |") != std::string::npos);
+  CHECK(two.find("700.0") == two.rfind("700.0"));  // in that row only
+  CHECK(csvTable(tmp.path / "rep_two" / "through.csv")[2] ==
+        std::vector<std::string>{"1", "erosion 0.4 (default, ero)", "700.0", "1", "600.0", "1",
+                                 "tail"});
 
   // A run of another experiment (its scene's [reference] another) beside the first: its
   // velocities without errors against the first's experiment (v1 showed +25.0 % against 800
