@@ -675,6 +675,23 @@ TEST_CASE("the particle plate template is a plate made of particles, free at its
   CHECK(sc.output.folder == "runs/particle_plate");
 }
 
+TEST_CASE("the two fragments template has two projectiles on one plate", "[unit][scene]") {
+  // scenes/two_fragments: each projectile is measured at the plate on its own; the faster,
+  // listed first, is the one a [reference] would be compared with.
+  const Scene sc =
+      loadScene(std::string(FESPH_SCENES_DIR) + "/two_fragments/scene.toml", {}, library());
+  REQUIRE(sc.bodies.size() == 3);
+  CHECK(sc.bodies[0].name == "fast");
+  CHECK(sc.bodies[0].projectile);
+  CHECK(sc.bodies[1].name == "slow");
+  CHECK(sc.bodies[1].projectile);
+  CHECK_FALSE(sc.bodies[2].projectile);
+  CHECK(std::holds_alternative<PlateSpec>(sc.bodies[2].shape));
+  CHECK(sc.bodies[0].velocity.norm() > sc.bodies[1].velocity.norm());
+  CHECK(sc.half);
+  CHECK(sc.output.folder == "runs/two_fragments");
+}
+
 TEST_CASE("a broken .msh gives a located error and exit code 2", "[unit][scene]") {
   const fs::path dir = fs::temp_directory_path() / "fesph_scene_tests";
   fs::create_directories(dir);
