@@ -62,7 +62,7 @@ void buildRows(std::size_t n, Collect&& collect, std::vector<ThreadBuffer<std::v
 #pragma omp single
     {
       for (std::size_t i = 0; i < n; ++i) out.offset[i + 1] = out.offset[i] + count[i];
-      out.index.resize(out.offset[n]);
+      resizeSnug(out.index, out.offset[n]);
     }
 #pragma omp for schedule(dynamic, 1)
     for (long b = 0; b < nb; ++b) {
@@ -428,7 +428,7 @@ std::size_t NeighbourSearch::Verlet::addPairs(
   std::vector<int>& index = merged.index;
   offset.resize(n + 1);
   for (std::size_t i = 0; i <= n; ++i) offset[i] = c.offset[i] + add_offset[i];
-  index.resize(offset[n]);
+  resizeSnug(index, offset[n]);
   const long rows = static_cast<long>(n);
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < rows; ++r) {

@@ -6,6 +6,7 @@
 #include "core/sph/sph_forces.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/heap_bytes.hpp"
 #include "core/common/lanes.hpp"
 #include "core/sph/kernel.hpp"
 #include "core/sph/sph_workspace.hpp"
@@ -467,16 +468,16 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
   if (ws.neighbours.pairs() >= SphWorkspace::kNoLastPair)  // hundreds of GB of pair arrays
     throw RunError("SPH neighbour list of " + std::to_string(ws.neighbours.pairs()) +
                    " pairs at t = " + seconds(model.time) + ": more than the 2^32 - 1 it can index");
-  ws.pair_grad.resize(ws.neighbours.pairs());
-  ws.pair_stab.resize(ws.neighbours.pairs());
-  ws.pair_last_slot.resize(ws.neighbours.pairs());
+  resizeSnug(ws.pair_grad, ws.neighbours.pairs());
+  resizeSnug(ws.pair_stab, ws.neighbours.pairs());
+  resizeSnug(ws.pair_last_slot, ws.neighbours.pairs());
   prepareMirrors(model, ws);
   for (std::size_t m = 0; m < ws.mirrors.size(); ++m) {
     MirrorImage& mi = ws.mirrors[m];
     ws.search.mirrorRowsVerlet(pa.x, pa.h, pa.body, mi.map, true, m, ws.controls.verlet_skin,
                                mi.neighbours);
-    mi.grad.resize(mi.neighbours.pairs());
-    mi.grad_prev.resize(mi.neighbours.pairs());
+    resizeSnug(mi.grad, mi.neighbours.pairs());
+    resizeSnug(mi.grad_prev, mi.neighbours.pairs());
   }
   const long ni = static_cast<long>(n);
 
