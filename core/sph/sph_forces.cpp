@@ -83,14 +83,14 @@ void prepareMirrors(const Model& model, SphWorkspace& ws) {
 
 void resizeWorkspace(SphWorkspace& ws, std::size_t n) {
   ws.current.resize(n);
-  ws.corrected.resize(n);
-  ws.velocity_grad.resize(n);
-  ws.velocity_grad_prev.resize(n);
-  ws.stress_b.resize(n);
-  ws.plastic_work.resize(n);
-  ws.av_work.resize(n);
-  ws.internal_energy.resize(n);
-  ws.yield_cache.resize(n);  // new particles' entries empty (keyed: see YieldCache)
+  resizeSnug(ws.corrected, n);
+  resizeSnug(ws.velocity_grad, n);
+  resizeSnug(ws.velocity_grad_prev, n);
+  resizeSnug(ws.stress_b, n);
+  resizeSnug(ws.plastic_work, n);
+  resizeSnug(ws.av_work, n);
+  resizeSnug(ws.internal_energy, n);
+  resizeSnug(ws.yield_cache, n);  // new particles' entries empty (keyed: see YieldCache)
 }
 
 /// Neighbours of particle i in this step's lists: its own body's and the mirror images'.
@@ -442,17 +442,17 @@ void restorePairStabilisation(Model& model) {
 }
 
 void SphSnapshot::resize(std::size_t n) {
-  x.resize(n);
-  v.resize(n);
-  h.resize(n);
-  V.resize(n);
-  volume_rate.resize(n);
-  rho.resize(n);
-  c.resize(n);
-  d.resize(n);
-  B.resize(n);
-  R.resize(n);
-  tensile.resize(n);
+  resizeSnug(x, n);
+  resizeSnug(v, n);
+  resizeSnug(h, n);
+  resizeSnug(V, n);
+  resizeSnug(volume_rate, n);
+  resizeSnug(rho, n);
+  resizeSnug(c, n);
+  resizeSnug(d, n);
+  resizeSnug(B, n);
+  resizeSnug(R, n);
+  resizeSnug(tensile, n);
 }
 
 void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
@@ -526,8 +526,8 @@ void enforceParticleContact(Model& model, double dt, SphWorkspace& ws) {
     return;
 
   // Broad phase: pairs that can come within their contact distance during the step.
-  ws.contact_radius.resize(n);
-  ws.contact_spacing.resize(n);
+  resizeSnug(ws.contact_radius, n);
+  resizeSnug(ws.contact_spacing, n);
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     ws.contact_spacing[i] = std::cbrt(pa.V[i]);

@@ -2,6 +2,7 @@
 #include "core/state/model_build.hpp"
 
 #include "core/common/error.hpp"
+#include "core/common/heap_bytes.hpp"
 #include "core/contact/surfaces.hpp"
 
 #include <algorithm>
@@ -130,22 +131,28 @@ void finaliseModel(Model& model) {
 std::size_t appendParticle(Particles& pa, const Vec3& x, const Vec3& v, double m, double V,
                            double d0, double h, const PointState& st, int body, int material,
                            int parent) {
-  pa.x.push_back(x);
-  pa.v.push_back(v);
-  pa.f.push_back(Vec3::Zero());
-  pa.m.push_back(m);
-  pa.V.push_back(V);
-  pa.rho.push_back(m / V);
-  pa.h.push_back(h);
-  pa.d0.push_back(d0);
-  pa.dt.push_back(0.0);
-  pa.state.push_back(st);
-  pa.body.push_back(body);
-  pa.material.push_back(material);
-  pa.parent.push_back(parent);
-  pa.tie.push_back(Tie{});
-  pa.id.push_back(static_cast<int>(pa.id.size()));  // no particle is ever removed
-  return pa.size() - 1;
+  const std::size_t i = pa.size();
+  // grown by an eighth, not doubled, as particles are born a few at a time (resizeSnug)
+  const auto add = [i](auto& array, const auto& value) {
+    resizeSnug(array, i + 1);
+    array[i] = value;
+  };
+  add(pa.x, x);
+  add(pa.v, v);
+  add(pa.f, Vec3(Vec3::Zero()));
+  add(pa.m, m);
+  add(pa.V, V);
+  add(pa.rho, m / V);
+  add(pa.h, h);
+  add(pa.d0, d0);
+  add(pa.dt, 0.0);
+  add(pa.state, st);
+  add(pa.body, body);
+  add(pa.material, material);
+  add(pa.parent, parent);
+  add(pa.tie, Tie{});
+  add(pa.id, static_cast<int>(i));  // no particle is ever removed
+  return i;
 }
 
 Vec3 bodyMeanVelocity(const Model& model, int body) {
