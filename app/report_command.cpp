@@ -130,7 +130,8 @@ ReportRun readRun(const fs::path& dir) {
     };
     const auto named = row.find("projectile");
     const std::string name = named != row.end() ? named->second : std::string();
-    if (r.projectiles.empty() || r.projectiles.back().name != name)  // a projectile's rows in a block
+    // a projectile's rows come in a block
+    if (r.projectiles.empty() || r.projectiles.back().name != name)
       r.projectiles.push_back({name, {}, {}, {}, {}});
     ProjectileCrossings& p = r.projectiles.back();
     p.residual.push_back(number("residual_velocity_m_s"));
