@@ -100,10 +100,8 @@ class RunSession {
   const Model& model() const { return model_; }
   Model& model() { return model_; }
   const Scene& scene() const { return scene_; }
-  /// Residual velocity after each plate (plate_crossings.hpp), as measured so far: one
-  /// tracking per projectile, in the order of the bodies.
-  const std::vector<PlateCrossings>& crossings() const { return crossings_; }
-  /// The tracking of projectile `body`; null for a body that is none.
+  /// The residual-velocity tracking of projectile `body` (plate_crossings.hpp), as measured so
+  /// far; null for a body that is none.
   const PlateCrossings* crossingsOf(int body) const;
   /// How the largest piece `r` of projectile `body` stands to the targets, in words: not clear
   /// of them yet, clear of every one, or clear of them without having reached any (shot away

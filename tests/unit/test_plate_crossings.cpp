@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 using namespace fesph;
@@ -83,13 +84,14 @@ Model shotWithFrontHalfConverted(const char* folder) {
   return m;
 }
 
-/// Steps `m` to its end time, updating `crossings` after every step; the largest step, s.
-double runToEnd(Model& m, PlateCrossings& crossings) {
+/// Steps `m` to its end time, updating each of `crossings` after every step; the largest
+/// step, s.
+double runToEnd(Model& m, std::initializer_list<PlateCrossings*> crossings) {
   double dt_max = 0;
   while (m.time < m.controls.end_time * (1 - 1e-12)) {
     step(m, m.controls.end_time);
     dt_max = std::max(dt_max, m.dt);
-    crossings.update(m);
+    for (PlateCrossings* c : crossings) c->update(m);
   }
   return dt_max;
 }
@@ -107,7 +109,7 @@ TEST_CASE("residual velocity is taken at the measuring plane of each plate", "[u
   // Measuring planes: the clear gap (8 mm) behind each rear face, i.e. z = -15 mm (the front
   // face of the second plate) and z = -25 mm.
   CHECK(crossings.plates()[0].measure_depth == Approx(10e-3));
-  const double dt_max = runToEnd(m, crossings);
+  const double dt_max = runToEnd(m, {&crossings});
   // The nose (z = 1 mm at t = 0) reaches z = -5, -15, -25 mm at 6, 16 and 26 us; each event is
   // seen at the end of the step in which it happens (within one step).
   const auto& p = crossings.plates();
@@ -175,12 +177,7 @@ mesh_size = 2e-3
     CHECK(c.plates()[0].name == "first");
     CHECK(c.plates()[1].name == "second");
   }
-  double dt_max = 0;
-  while (m.time < m.controls.end_time * (1 - 1e-12)) {
-    step(m, m.controls.end_time);
-    dt_max = std::max(dt_max, m.dt);
-    for (PlateCrossings& c : all) c.update(m);
-  }
+  const double dt_max = runToEnd(m, {&all[0], &all[1]});
   for (const PlateCrossing& p : all[0].plates()) CHECK(p.speed == Approx(1000.0).epsilon(1e-9));
   const auto& slow = all[1].plates();
   CHECK(slow[0].t_contact == Approx(4e-6).margin(dt_max));
@@ -237,7 +234,7 @@ TEST_CASE("a projectile made of particles is measured at the plates as one of el
   PlateCrossings crossings(sc, m, 0);
   REQUIRE(crossings.plates().size() == 2);
   CHECK(crossings.projectileName() == "shot");
-  const double dt_max = runToEnd(m, crossings);
+  const double dt_max = runToEnd(m, {&crossings});
   const auto& p = crossings.plates();
   const double to = lead / 1000;  // s, flight time of the leading particle to z = 0
   CHECK(p[0].t_contact == Approx(to + 5e-6).margin(dt_max));   // z = -5 mm
