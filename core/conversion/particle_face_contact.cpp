@@ -35,12 +35,15 @@ struct FaceGrid {
   std::vector<int> face;
   /// Each particle's cell rank (-1: tied, in no cell).
   std::vector<int> rank_of;
-  /// The plane of each face with entries at the start of the step: a point of it (its first
-  /// node) and the unit normal, side by side for the one look-up a candidate face costs.
-  struct Plane {
+  /// Each face with entries: its plane at the start of the step (a point of it, its first
+  /// node, and the unit normal) and the box a particle's predicted position must lie in for
+  /// the face to be one of its candidates (buildGrid), side by side for the one look-up a
+  /// face of the cell costs.
+  struct Entry {
     Vec3 point, normal;
+    Vec3 lo, hi;
   };
-  std::vector<Plane> plane;
+  std::vector<Entry> entry;
 
   // Unsigned arithmetic: the hash wraps instead of overflowing (undefined behaviour) for
   // far or non-finite positions, which the solver's non-finite check reports after the step.
@@ -57,6 +60,10 @@ struct FaceGrid {
 // Below this many items a loop runs on one thread: forking costs more than it saves. Low
 // enough that the determinism test's few dozen particles split over the threads.
 constexpr long kParallelMin = 32;
+
+// How far outside a face (in barycentric weights) a particle's end may project and still hit
+// it, so that a particle over the edge between two faces is caught by one of them.
+constexpr double kBaryTolerance = 0.05;
 
 // Contiguous blocks of n items that the threads take as they come (items of unequal work),
 // results joined in block order: as many for any thread count, so the same result.
@@ -163,19 +170,18 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
   // as they come, and the blocks are joined in order.
   const long nb = blockCount(nf);
   std::vector<ThreadBuffer<std::vector<std::pair<int, int>>>> parts(static_cast<std::size_t>(nb));
-  g.plane.resize(faces.size());
+  g.entry.resize(faces.size());
 #pragma omp parallel for schedule(dynamic, 1) if (nf > kParallelMin)
   for (long b = 0; b < nb; ++b) {
     std::vector<std::pair<int, int>>& mine = parts[static_cast<std::size_t>(b)].items;
     for (long k = nf * b / nb; k < nf * (b + 1) / nb; ++k) {
       const std::size_t first = mine.size();
-      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+      Vec3 swept_lo = Vec3::Constant(1e300), swept_hi = Vec3::Constant(-1e300);
       for (int a : faces[k].node) {
-        lo = lo.cwiseMin(nd.x[a]).cwiseMin(nd.x[a] + dt * nd.v[a]);
-        hi = hi.cwiseMax(nd.x[a]).cwiseMax(nd.x[a] + dt * nd.v[a]);
+        swept_lo = swept_lo.cwiseMin(nd.x[a]).cwiseMin(nd.x[a] + dt * nd.v[a]);
+        swept_hi = swept_hi.cwiseMax(nd.x[a]).cwiseMax(nd.x[a] + dt * nd.v[a]);
       }
-      lo.array() -= reach;
-      hi.array() += reach;
+      const Vec3 lo = swept_lo.array() - reach, hi = swept_hi.array() + reach;
       const long i0 = std::max(g.index(lo.x()), i_min), i1 = std::min(g.index(hi.x()), i_max);
       const long j0 = std::max(g.index(lo.y()), j_min), j1 = std::min(g.index(hi.y()), j_max);
       const long k0 = std::max(g.index(lo.z()), k_min), k1 = std::min(g.index(hi.z()), k_max);
@@ -195,7 +201,19 @@ FaceGrid buildGrid(const Model& model, double dt, double reach) {
         mine.resize(first);
         continue;
       }
-      g.plane[k] = {point, plane.normal};
+      // A hit needs the particle's end position over the face's end triangle widened by the
+      // barycentric tolerance (which lies within 1.73 kBaryTolerance L of the triangle, L its
+      // longest edge), and within its contact radius in front of it or behind it after a
+      // crossing. The end triangle lies in the swept box, and a particle that crosses it
+      // from in front ends behind it by at most its reach (radius and travel), so its
+      // predicted position lies within reach + 1.73 kBaryTolerance L of the swept box. A
+      // second reach leaves room for the passes' corrections, which the cell of the
+      // predicted position ignores as well. A face farther than that cannot be hit and is no
+      // candidate: in the quick four-plate run at 100 us, 26k candidate faces instead of the
+      // cell's 61k, and a sixth fewer particles with any, for the same hits.
+      const double margin =
+          2 * reach + 2 * kBaryTolerance * std::sqrt(longestEdgeSquared(nd.x, faces[k]));
+      g.entry[k] = {point, plane.normal, swept_lo.array() - margin, swept_hi.array() + margin};
     }
   }
   // Counting sort by cell: the parts hold ascending faces in block order, so each cell's row
@@ -246,13 +264,15 @@ void formFaceEnd(const Model& model, int face, double dt, long pushes, FaceEnd& 
   e.at = pushes;
 }
 
-void viableFaces(const Model& model, std::size_t p, double radius, const FaceGrid& grid,
+void viableFaces(const Model& model, std::size_t p, double radius, double dt, const FaceGrid& grid,
                  std::vector<Viable>& out) {
   const Vec3& x = model.particles.x[p];
+  const Vec3 y = x + dt * model.particles.v[p];  // predicted position, as for its cell
   const std::size_t r = static_cast<std::size_t>(grid.rank_of[p]);
   for (std::size_t e = grid.start[r]; e < grid.start[r + 1]; ++e) {
     const int k = grid.face[e];
-    const FaceGrid::Plane& f = grid.plane[static_cast<std::size_t>(k)];
+    const FaceGrid::Entry& f = grid.entry[static_cast<std::size_t>(k)];
+    if ((y.array() < f.lo.array()).any() || (y.array() > f.hi.array()).any()) continue;
     const double distance = (x - f.point).dot(f.normal);
     if (distance >= -radius) out.push_back({k, distance, -1});
   }
@@ -278,7 +298,7 @@ Hit deepestHit(const Model& model, std::size_t p, double radius, const Viable* v
     if (delta <= 0 || delta <= best.delta) continue;
     // It must end within the face's extent.
     const Vec3 bary = baryInPlane(xp - distance * e.plane.normal, e.a, e.b, e.c, e.plane);
-    if (bary.minCoeff() < -0.05) continue;
+    if (bary.minCoeff() < -kBaryTolerance) continue;
     best = Hit{it->face, delta, e.plane.normal, clampBary(bary)};
   }
   return best;
@@ -434,7 +454,7 @@ void enforceParticleFaceContact(Model& model, double dt, int passes) {
     for (long p = np * b / nb; p < np * (b + 1) / nb; ++p) {
       const std::size_t before = mine.size();
       if (grid.rank_of[p] >= 0)  // not tied
-        viableFaces(model, static_cast<std::size_t>(p), radius[p], grid, mine);
+        viableFaces(model, static_cast<std::size_t>(p), radius[p], dt, grid, mine);
       offset[p + 1] = mine.size() - before;
     }
   }

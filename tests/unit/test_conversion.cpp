@@ -545,6 +545,37 @@ TEST_CASE("a particle ending just past a face's edge pushes its edge's nodes onl
   CHECK((p1 - p0).norm() <= 1e-12 * p0.norm());
 }
 
+TEST_CASE("a small slow particle is caught over a face's edge as far out as the tolerance allows",
+          "[unit][conversion][contact]") {
+  // Reference: deepestHit (particle_face_contact.cpp) catches a particle ending up to
+  // kBaryTolerance = 5 % of a face (in barycentric weights) outside its extent, and the
+  // candidate faces of a particle (buildGrid's box around each face's sweep) must reach as
+  // far. A particle of 0.02 mm spacing (contact radius 0.007 mm, reach 0.021 mm with its
+  // travel) over the top edge x = 3 mm of a resting 3 mm box (one cell), moving straight down
+  // through the top plane: 4 % of the triangle's 3 mm height outside the edge (0.12 mm, six
+  // times its reach) it is pushed back out; 6 % outside it passes the face untouched.
+  const double mm = 1e-3, dt = 1e-6, s = 0.02 * mm;
+  const double radius = kParticleContactRadius * s;
+  for (const double outside : {0.04, 0.06}) {
+    Model m = fesph::testing::boxModel(fesph::testing::elasticMaterial(),
+                                       Vec3(3 * mm, 3 * mm, 3 * mm), 1, 1, 1);
+    const Vec3 v0(0, 0, -2 * radius / dt);
+    addParticleBody(m, "particle", {Vec3((3 + 3 * outside) * mm, 1.4 * mm, 3 * mm + radius)},
+                    {s * s * s}, 0, v0, true);
+    finaliseModel(m);
+    enforceParticleFaceContact(m, dt, 1);
+    const Vec3 dv = m.particles.v[0] - v0;
+    std::printf("[conversion] slow particle %.0f %% of the face outside its edge: dv = (%.3g, "
+                "%.3g, %.3g) m/s\n", 100 * outside, dv.x(), dv.y(), dv.z());
+    if (outside < 0.05) {
+      CHECK(dv.z() > 0.5 * radius / dt);  // pushed back up, out of the face it ended behind
+    } else {
+      CHECK(dv == Vec3::Zero());
+      for (const Vec3& v : m.nodes.v) CHECK(v == Vec3::Zero());
+    }
+  }
+}
+
 TEST_CASE("the tie passes relax as alpha_k = 1/sqrt(N - k + 1)", "[unit][conversion][ties]") {
   // Reference: Hu, Sun & Zhu (2015) eqs. 5-6 worked by hand. Two particles of mass 3M tied
   // at the centre (weights 1/3) of one face whose three nodes have mass M: each tie correction
