@@ -74,8 +74,11 @@ void countPhases(benchmark::State& state, const Model& m) {
     state.counters["particle_phase_ns"] = 1e9 * seconds(Phase::Particles) / t.particle_steps;
   const double total = t.total();
   if (total > 0)
-    for (Phase p : {Phase::Conversion, Phase::Contact, Phase::Coupling})
-      state.counters[std::string(phaseName(p)) + "_pct"] = 100 * seconds(p) / total;
+    for (Phase p : {Phase::Conversion, Phase::Contact, Phase::Coupling, Phase::ParticleContact}) {
+      std::string name = phaseName(p);
+      std::replace(name.begin(), name.end(), ' ', '_');
+      state.counters[name + "_pct"] = 100 * seconds(p) / total;
+    }
 }
 
 /// Model arrays per element (B), for the <= 1 kB per element target.

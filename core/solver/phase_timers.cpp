@@ -12,6 +12,7 @@ const char* phaseName(Phase p) {
     case Phase::Integrate: return "integration";
     case Phase::Contact: return "contact";
     case Phase::Coupling: return "coupling";
+    case Phase::ParticleContact: return "particle contact";
     case Phase::Energy: return "energy";
     case Phase::Count: break;
   }

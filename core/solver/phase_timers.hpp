@@ -16,7 +16,8 @@ enum class Phase {
   TimeStep,    ///< stable step
   Integrate,   ///< velocities, fixed components and positions
   Contact,     ///< rigid walls and node-face contact (broad and narrow phase)
-  Coupling,    ///< particle-face contact, ties, particle-particle contact
+  Coupling,    ///< particle-face contact and ties (particles with the elements)
+  ParticleContact,  ///< contact between particles of different bodies, symmetry planes
   Energy,      ///< correction work and the energy budget
   Count
 };

@@ -289,9 +289,10 @@ void step(Model& model, double t_stop) {
   clock.lap(Phase::Contact);
   enforceParticleFaceContact(model, dt, model.controls.contact.passes);
   enforceTies(model, model.controls.contact.passes);  // converted particles stay coupled
+  clock.lap(Phase::Coupling);
   enforceParticleContact(model, dt);      // particles of different bodies: compression only
   enforceSymmetryPlanes(model, dt);       // particles stay on their side of a symmetry plane
-  clock.lap(Phase::Coupling);
+  clock.lap(Phase::ParticleContact);
   const double dissipated = -correctionWork(model, dt_avg);
 
   recordEnergyBudget(model, dissipated);  // budget at t^n

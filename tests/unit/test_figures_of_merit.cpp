@@ -151,7 +151,8 @@ TEST_CASE("figures of merit: the printed costs are the phase times over the work
   t.seconds[static_cast<int>(Phase::Elements)] = 2.0;
   t.seconds[static_cast<int>(Phase::Particles)] = 1.0;
   t.seconds[static_cast<int>(Phase::Contact)] = 0.5;
-  t.seconds[static_cast<int>(Phase::Coupling)] = 1.5;
+  t.seconds[static_cast<int>(Phase::Coupling)] = 1.0;
+  t.seconds[static_cast<int>(Phase::ParticleContact)] = 0.5;
   t.element_steps = 1e7;
   t.particle_steps = 4e5;
   t.steps = 1000;
@@ -170,7 +171,7 @@ TEST_CASE("figures of merit: the printed costs are the phase times over the work
         std::string::npos);
   CHECK(printed.find("in 1000 steps") != std::string::npos);
   CHECK(printed.find("time by phase    elements 40.0 %, particles 20.0 %, contact 10.0 %, "
-                     "coupling 30.0 %") != std::string::npos);
+                     "coupling 20.0 %, particle contact 10.0 %") != std::string::npos);
   const Footprint f = modelFootprint(m);
   char per_item[96];
   std::snprintf(per_item, sizeof per_item, "(%.0f B per element, %.0f B per particle)",
