@@ -8,6 +8,8 @@
 //   BM_SphForces     computeParticleForces at ~55 neighbours (Verlet list amortised),
 //                    particles in lattice order (order 0), in random order (1), or in random
 //                    order renumbered in spatial order every 50 steps, as runs do (2)
+//   BM_SphTension    BM_SphForces (lattice) with the cube stretched: every pair in tension
+//                    takes the artificial stress, as a third of an impact's particles do
 //   BM_SphMirror     BM_SphForces (lattice) with a symmetry plane on one face of the cube: the
 //                    cost of the mirror images (compare with BM_SphForces/order:0)
 //   BM_Neighbours    SPH neighbour build from scratch (cell grid)
@@ -147,7 +149,9 @@ void BM_ElementKernel(benchmark::State& state) {
 // shuffled: the particles in a random order (fixed seed) instead of the lattice's. Converted
 // particles are numbered in the order their elements converted, far from spatial order.
 // No renumbering (SphControls::order_interval = 0) unless the caller sets it.
-Model particleCube(int n, bool shuffled = false) {
+/// An n^3 lattice cube of copper particles 0.25 mm apart, moving with a uniform strain rate
+/// (1/s): negative squeezes it, positive stretches it into hydrostatic tension.
+Model particleCube(int n, bool shuffled = false, double strain_rate = -2e4) {
   Model m;
   m.materials.push_back(library().get("OFHC_copper"));
   const double d = 0.25e-3;
@@ -160,7 +164,7 @@ Model particleCube(int n, bool shuffled = false) {
                   true, 1.2);
   const Vec3 centre = 0.5 * n * d * Vec3::Ones();
   for (std::size_t i = 0; i < m.particles.size(); ++i)
-    m.particles.v[i] = -2e4 * (m.particles.x[i] - centre);  // 1/s: a 20 m/s squeeze at 1 mm
+    m.particles.v[i] = strain_rate * (m.particles.x[i] - centre);  // -2e4: 20 m/s at 1 mm
   m.sph.controls.order_interval = 0;
   return m;
 }
@@ -183,6 +187,22 @@ void BM_SphForces(benchmark::State& state) {
   countItems(state, "particles", static_cast<double>(m.particles.size()));
   state.counters["neighbours"] = meanNeighbours(m);
   countMemory(state, m);
+}
+
+// The cube stretched instead of squeezed: every particle inside in tension (p < 0), so every
+// pair takes the artificial stress (a third of the impact's particles do, 2 % of the squeeze's)
+// and none the viscosity.
+void BM_SphTension(benchmark::State& state) {
+  setThreads(state, 1);
+  Model m = particleCube(static_cast<int>(state.range(0)), false, 2e4);
+  for (int i = 0; i < 6; ++i) step(m, 1.0);
+  for (auto _ : state) step(m, 1.0);
+  countItems(state, "particles", static_cast<double>(m.particles.size()));
+  state.counters["neighbours"] = meanNeighbours(m);
+  std::size_t tensile = 0;
+  for (const std::uint8_t t : m.sph.current.tensile) tensile += t ? 1 : 0;
+  state.counters["tensile_fraction"] =
+      static_cast<double>(tensile) / static_cast<double>(m.particles.size());
 }
 
 void BM_SphMirror(benchmark::State& state) {
@@ -302,6 +322,8 @@ constexpr int kSphSteps = 40;
 BENCHMARK(BM_SphForces)->ArgsProduct({{20, 30, 40}, {0, 1, 2}, {1, 2}})
     ->ArgNames({"n", "order", "threads"})->Iterations(kSphSteps)
     ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SphTension)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
+    ->Iterations(kSphSteps)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SphMirror)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Neighbours)->ArgsProduct({{20, 30, 40}, {1, 2}})->ArgNames({"n", "threads"})
