@@ -68,10 +68,22 @@ Mat3 artificialStress(const Mat3& sigma, double epsilon) {
   return kernelGradient(prev.x[i] - prev.x[j], 0.5 * (prev.h[i] + prev.h[j]));
 }
 
-double powInt(double x, int n) {
-  double y = 1.0;
-  for (int k = 0; k < n; ++k) y *= x;
+/// x^n (n >= 0) as n - 1 products in a row, x x ... x: the chain 1 x x ... x without its exact
+/// first product. T is double or Lanes2 (lane by lane the same bits).
+template <class T>
+T powInt(T x, int n) {
+  if (n <= 0) return T{} + 1.0;
+  T y = x;
+  for (int k = 1; k < n; ++k) y *= x;
   return y;
+}
+
+/// Monaghan's factor f^n = (W(r) / W(dp))^n of the artificial stress for a pair at distance r,
+/// mean spacing dp and mean smoothing length h. T is double or Lanes2 (two pairs, the bits of
+/// one by one).
+template <class T>
+T stressRatio(T r, T dp, T h, int n) {
+  return powInt(kernelShape(r / h) / kernelShape(dp / h), n);
 }
 
 /// One MirrorImage per reflection of the model's symmetry planes (none without planes).
@@ -322,19 +334,20 @@ void updateMaterial(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
 /// Monaghan's artificial stress V_i V_j f^n (R_i + R_j) g, f = W(r)/W(d_ij) (Gray, Monaghan &
 /// Swift 2001), and the Monaghan & Gingold (1983) viscosity -m_i m_j Pi_ij g for approaching
 /// pairs. Anti-symmetric bit for bit. `mu` receives -mu_ij (>= 0) for the time step.
-/// x_j, v_j, R_j: j's own (s.x[j] ...) or its mirror image's. Inlined by force: GCC kept it a
-/// call from the pair loop, whose ten arguments cost 18 % of the force pass's instructions.
+/// x_j, v_j, R_j: j's own (s.x[j] ...) or its mirror image's. `ratio`: the pair's f^n from
+/// pairStressRatios, or null to compute it here. Inlined by force: GCC kept it a call from the
+/// pair loop, whose ten arguments cost 18 % of the force pass's instructions.
 [[gnu::always_inline]] inline Vec3
 stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i, std::size_t j,
                    const Vec3& x_j, const Vec3& v_j, const Mat3& R_j, const Vec3& g,
-                   const SphControls& ctl, double& mu) {
+                   const SphControls& ctl, double& mu, const double* ratio = nullptr) {
   const Vec3 r_ij = s.x[i] - x_j;
   const double h_ij = 0.5 * (s.h[i] + s.h[j]);
   Vec3 f = Vec3::Zero();
   if (s.tensile[i] || s.tensile[j]) {
-    const double dp = 0.5 * (s.d[i] + s.d[j]);
-    const double fn =
-        powInt(kernelShape(r_ij.norm() / h_ij) / kernelShape(dp / h_ij), ctl.as_exponent);
+    const double fn = ratio ? *ratio
+                            : stressRatio(r_ij.norm(), 0.5 * (s.d[i] + s.d[j]), h_ij,
+                                          ctl.as_exponent);
     f = scaledSumTimes(s.V[i] * s.V[j] * fn, s.R[i], R_j, g);
   }
   mu = 0;
@@ -348,6 +361,29 @@ stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i, std
     mu = -mu_ij;
   }
   return f;
+}
+
+/// The artificial stress's f^n of row i's pairs in the configuration `s`, into `ratio` (by
+/// position in the row) wherever i or j is in tension, two pairs at a time: stabilisationForce's
+/// arithmetic lane by lane, so the same bits. A pair's chain (square root, division, shape,
+/// division, power) is long; two side by side take one chain's time (docs/performance.md,
+/// forty-fifth session).
+void pairStressRatios(const SphSnapshot& s, std::size_t i, const NeighbourList& nb, int exponent,
+                      std::vector<double>& ratio) {
+  const std::size_t begin = nb.offset[i], end = nb.offset[i + 1];
+  ratio.resize(end - begin);
+  for (std::size_t k = begin; k < end; k += 2) {
+    const std::size_t k1 = std::min(k + 1, end - 1);  // an odd row's last pair fills both lanes
+    const std::size_t j0 = static_cast<std::size_t>(nb.index[k]);
+    const std::size_t j1 = static_cast<std::size_t>(nb.index[k1]);
+    if (!(s.tensile[i] || s.tensile[j0] || s.tensile[j1])) continue;
+    const Lanes2 r = {(s.x[i] - s.x[j0]).norm(), (s.x[i] - s.x[j1]).norm()};
+    const Lanes2 dp = {0.5 * (s.d[i] + s.d[j0]), 0.5 * (s.d[i] + s.d[j1])};
+    const Lanes2 h = {0.5 * (s.h[i] + s.h[j0]), 0.5 * (s.h[i] + s.h[j1])};
+    const Lanes2 fn = stressRatio(r, dp, h, exponent);
+    ratio[k - begin] = fn[0];
+    ratio[k1 - begin] = fn[1];
+  }
 }
 
 /// Pass 3 for particle i: f_i = sum_j f_ij with
@@ -366,10 +402,13 @@ double forces(Model& model, std::size_t i, double dt, SphWorkspace& ws) {
   const Mat3& Si = ws.stress_b[i];
   Vec3 f = Vec3::Zero();
   double heat_power = 0, mu_max = 0, mu = 0;
+  thread_local std::vector<double> ratio;
+  pairStressRatios(cur, i, nb, ctl.as_exponent, ratio);
   for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
     const std::size_t j = static_cast<std::size_t>(nb.index[k]);
     const Vec3& g = ws.pair_grad[k];
-    const Vec3 f_stab = stabilisationForce(cur, pa, i, j, cur.x[j], cur.v[j], cur.R[j], g, ctl, mu);
+    const Vec3 f_stab = stabilisationForce(cur, pa, i, j, cur.x[j], cur.v[j], cur.R[j], g, ctl,
+                                           mu, &ratio[k - nb.offset[i]]);
     ws.pair_stab[k] = f_stab;
     mu_max = std::max(mu_max, mu);
     f += scaledSumTimes(cur.V[i] * cur.V[j], Si, ws.stress_b[j], g) + f_stab;

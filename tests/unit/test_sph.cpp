@@ -195,6 +195,28 @@ TEST_CASE("sph kernel: two lanes give the bits of one by one", "[unit][sph]") {
   REQUIRE(kernelDWdrOverR(0.0, 1e-3) == Approx(-3.0 / (kKernelPi * 1e-15)).epsilon(1e-14));
 }
 
+TEST_CASE("sph kernel: the shape two at a time gives the bits of one by one", "[unit][sph]") {
+  // The artificial stress evaluates kernelShape for two pairs at a time (Lanes2): exact
+  // equality with the scalar function over 1000 random q in [0, 2.5), 0, the knots q = 1 and
+  // q = 2 and their neighbours, and beyond the support; and the shape itself at the knots
+  // (Monaghan & Lattanzio 1985: 1 at q = 0, 1/4 at q = 1, 0 from q = 2).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 2.5);
+  std::vector<double> qs = {0.0, 1.0, std::nextafter(1.0, 0.0), std::nextafter(1.0, 2.0), 2.0,
+                            std::nextafter(2.0, 0.0), 3.0};
+  for (int k = 0; k < 1000; ++k) qs.push_back(u(rng));
+  for (std::size_t k = 0; k + 1 < qs.size(); ++k) {
+    const Lanes2 w = kernelShape(Lanes2{qs[k], qs[k + 1]});
+    INFO("q " << qs[k] << ", " << qs[k + 1]);
+    REQUIRE(w[0] == kernelShape(qs[k]));
+    REQUIRE(w[1] == kernelShape(qs[k + 1]));
+  }
+  REQUIRE(kernelShape(0.0) == 1.0);
+  REQUIRE(kernelShape(1.0) == 0.25);
+  REQUIRE(kernelShape(2.0) == 0.0);
+  REQUIRE(kernelShape(Lanes2{1.0, 2.0})[0] == 0.25);
+}
+
 TEST_CASE("sph kinematics' outer-product sums give Eigen's bits", "[unit][sph]") {
   // The kinematics sums u g^T over a row with OuterSum (rows 0-1 side by side); its results
   // must be those of Mat3's own product. Reference: M.noalias() += / -= u * g.transpose(),
