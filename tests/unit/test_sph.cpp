@@ -269,6 +269,55 @@ TEST_CASE("sph pair stress term gives Eigen's bits", "[unit][sph]") {
   }
 }
 
+TEST_CASE("sph artificial stress of every pair is Monaghan's term written out", "[unit][sph]") {
+  // The force pass takes a pair's (W(r)/W(dp))^n ahead, two pairs at a time (pairStressRatios),
+  // for pairs where i or j is in tension. Reference: Gray, Monaghan & Swift 2001, eq. 4.7, the
+  // pair force V_i V_j (W(r_ij)/W(dp_ij))^4 (R_i + R_j) grad W_ij, written out here one pair at a
+  // time from the step's own configuration; exact equality for every pair of a jittered lattice
+  // (rows of odd and even lengths) whose particles are stretched (p < 0, tensile) or squeezed
+  // at random, moving apart everywhere (no viscosity): a pair with neither in tension gets
+  // exactly 0.
+  const double s = 1e-3;
+  Model m = latticeModel(7, 6, 5, s);
+  Particles& pa = m.particles;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> jitter(-0.08 * s, 0.08 * s);
+  std::bernoulli_distribution stretched(0.5);
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    pa.x[i] += Vec3(jitter(rng), jitter(rng), jitter(rng));
+    pa.v[i] = 2e3 * pa.x[i];  // a uniform expansion: every pair moves apart
+    pa.V[i] *= stretched(rng) ? 1.03 : 0.98;
+    pa.rho[i] = pa.m[i] / pa.V[i];
+  }
+  SphWorkspace ws;
+  computeParticleForces(m, 1e-9, ws);
+  const SphSnapshot& cur = ws.current;
+  const NeighbourList& nb = ws.neighbours;
+  REQUIRE(ws.controls.as_exponent == 4);
+  std::size_t tensile = 0, pairs_in_tension = 0, odd_rows = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    tensile += cur.tensile[i];
+    odd_rows += (nb.offset[i + 1] - nb.offset[i]) % 2;
+    for (std::size_t k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+      const std::size_t j = static_cast<std::size_t>(nb.index[k]);
+      Vec3 expected = Vec3::Zero();
+      if (cur.tensile[i] || cur.tensile[j]) {
+        ++pairs_in_tension;
+        const double h = 0.5 * (cur.h[i] + cur.h[j]), dp = 0.5 * (cur.d[i] + cur.d[j]);
+        const double x = kernelShape((cur.x[i] - cur.x[j]).norm() / h) / kernelShape(dp / h);
+        expected = (cur.V[i] * cur.V[j] * (x * x * x * x)) * ((cur.R[i] + cur.R[j]) * ws.pair_grad[k]);
+      }
+      INFO("pair " << i << "-" << j << ", tensile " << int(cur.tensile[i]) << int(cur.tensile[j]));
+      REQUIRE(ws.pair_stab[k] == expected);
+    }
+  }
+  // Both kinds of particle and of row, and most pairs with one in tension.
+  REQUIRE(tensile > pa.size() / 4);
+  REQUIRE(tensile < 3 * pa.size() / 4);
+  REQUIRE(odd_rows > 10);
+  REQUIRE(pairs_in_tension > nb.pairs() / 2);
+}
+
 TEST_CASE("sph corrected gradient reproduces a linear velocity field", "[unit][sph]") {
   // Reference: v = L0 x + c has gradient L0 everywhere; the first-order correction makes the
   // SPH gradient exact (1e-10 relative) in the interior, on faces, edges and corners. The plain
