@@ -7,11 +7,23 @@
 
 #include "core/common/types.hpp"
 
+#include <emmintrin.h>
+
 namespace fesph {
 
 /// Two doubles side by side (a GCC vector: one SSE2 register on x86-64): +, -, *, / and
 /// comparisons act lane by lane with the scalar operations' bits.
 using Lanes2 = double __attribute__((vector_size(16)));
+
+/// The two lanes' square roots in one instruction (sqrtpd): IEEE 754 rounds a square root
+/// correctly, so each lane is std::sqrt's value bit for bit.
+inline Lanes2 sqrtLanes(Lanes2 x) { return _mm_sqrt_pd(x); }
+
+/// The lengths of two vectors: Eigen's norm() of each, bit for bit (its squared norm, then the
+/// root), with one root instruction for both.
+inline Lanes2 norms(const Vec3& a, const Vec3& b) {
+  return sqrtLanes(Lanes2{a.squaredNorm(), b.squaredNorm()});
+}
 
 /// A sum of outer products u g^T, entry by entry as Mat3's `M.noalias() += u * g.transpose()`
 /// computes it (M(a,b) + u_a g_b, the terms in the order given), so the same bits; rows 0 and 1

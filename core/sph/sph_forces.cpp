@@ -124,7 +124,7 @@ void pairGradients(const Particles& pa, std::size_t i, const NeighbourList& nb,
     const std::size_t k1 = std::min(k + 1, end - 1);  // an odd row's last pair fills both lanes
     const int j0 = nb.index[k], j1 = nb.index[k1];
     const Vec3 r0 = pa.x[i] - pa.x[j0], r1 = pa.x[i] - pa.x[j1];
-    const Lanes2 r = {r0.norm(), r1.norm()};
+    const Lanes2 r = norms(r0, r1);
     const Lanes2 h = {0.5 * (pa.h[i] + pa.h[j0]), 0.5 * (pa.h[i] + pa.h[j1])};
     const Lanes2 f = kernelDWdrOverR(r, h);
     grad[k] = f[0] * r0;
@@ -377,7 +377,7 @@ void pairStressRatios(const SphSnapshot& s, std::size_t i, const NeighbourList& 
     const std::size_t j0 = static_cast<std::size_t>(nb.index[k]);
     const std::size_t j1 = static_cast<std::size_t>(nb.index[k1]);
     if (!(s.tensile[i] || s.tensile[j0] || s.tensile[j1])) continue;
-    const Lanes2 r = {(s.x[i] - s.x[j0]).norm(), (s.x[i] - s.x[j1]).norm()};
+    const Lanes2 r = norms(s.x[i] - s.x[j0], s.x[i] - s.x[j1]);
     const Lanes2 dp = {0.5 * (s.d[i] + s.d[j0]), 0.5 * (s.d[i] + s.d[j1])};
     const Lanes2 h = {0.5 * (s.h[i] + s.h[j0]), 0.5 * (s.h[i] + s.h[j1])};
     const Lanes2 fn = stressRatio(r, dp, h, exponent);

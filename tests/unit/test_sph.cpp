@@ -247,6 +247,24 @@ TEST_CASE("sph kinematics' outer-product sums give Eigen's bits", "[unit][sph]")
   }
 }
 
+TEST_CASE("sph pair distances two at a time give Eigen's bits", "[unit][sph]") {
+  // The kernel gradients and the artificial stress take two pairs' distances from one root
+  // instruction (norms, core/common/lanes.hpp); each must be Eigen's norm() exactly. Random
+  // vectors of random magnitude (1e-9 to 1e9 per component, either sign), zero and a
+  // one-component vector.
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), scale(-9.0, 9.0);
+  const auto number = [&] { return u(rng) * std::pow(10.0, scale(rng)); };
+  std::vector<Vec3> v = {Vec3::Zero(), Vec3(0, -3e-4, 0)};
+  for (int k = 0; k < 2000; ++k) v.emplace_back(number(), number(), number());
+  for (std::size_t k = 0; k + 1 < v.size(); ++k) {
+    const Lanes2 r = norms(v[k], v[k + 1]);
+    INFO("sample " << k);
+    REQUIRE(r[0] == v[k].norm());
+    REQUIRE(r[1] == v[k + 1].norm());
+  }
+}
+
 TEST_CASE("sph pair stress term gives Eigen's bits", "[unit][sph]") {
   // The force pass takes V_i V_j ((S_i + S_j) g) and the artificial stress's c ((R_i + R_j) g)
   // from scaledSumTimes (rows 0-1 side by side); its results must be those of Eigen's
