@@ -148,9 +148,8 @@ void BM_ElementKernel(benchmark::State& state) {
 // inside. A uniform compression keeps the neighbour list in use across steps.
 // shuffled: the particles in a random order (fixed seed) instead of the lattice's. Converted
 // particles are numbered in the order their elements converted, far from spatial order.
-// No renumbering (SphControls::order_interval = 0) unless the caller sets it.
-/// An n^3 lattice cube of copper particles 0.25 mm apart, moving with a uniform strain rate
-/// (1/s): negative squeezes it, positive stretches it into hydrostatic tension.
+// No renumbering (SphControls::order_interval = 0) unless the caller sets it. The cube moves
+// with a uniform strain rate (1/s): negative squeezes it, positive stretches it into tension.
 Model particleCube(int n, bool shuffled = false, double strain_rate = -2e4) {
   Model m;
   m.materials.push_back(library().get("OFHC_copper"));

@@ -7,7 +7,10 @@
 
 #include "core/common/types.hpp"
 
+#include <cmath>
+#ifdef __SSE2__
 #include <emmintrin.h>
+#endif
 
 namespace fesph {
 
@@ -15,9 +18,15 @@ namespace fesph {
 /// comparisons act lane by lane with the scalar operations' bits.
 using Lanes2 = double __attribute__((vector_size(16)));
 
-/// The two lanes' square roots in one instruction (sqrtpd): IEEE 754 rounds a square root
-/// correctly, so each lane is std::sqrt's value bit for bit.
-inline Lanes2 sqrtLanes(Lanes2 x) { return _mm_sqrt_pd(x); }
+/// The two lanes' square roots, in one instruction (sqrtpd) on x86-64: IEEE 754 rounds a square
+/// root correctly, so each lane is std::sqrt's value bit for bit.
+inline Lanes2 sqrtLanes(Lanes2 x) {
+#ifdef __SSE2__
+  return _mm_sqrt_pd(x);
+#else
+  return Lanes2{std::sqrt(x[0]), std::sqrt(x[1])};
+#endif
+}
 
 /// The lengths of two vectors: Eigen's norm() of each, bit for bit (its squared norm, then the
 /// root), with one root instruction for both.
