@@ -3,7 +3,6 @@
 // gradient. The one kernel of the SPH layer.
 #pragma once
 
-#include "core/common/lanes.hpp"
 #include "core/common/types.hpp"
 
 namespace fesph {
@@ -12,23 +11,15 @@ namespace fesph {
 constexpr double kKernelPi = 3.14159265358979323846;
 
 /// The kernel's shape without its normalisation: W(r, h) = kernelShape(r/h) / (pi h^3).
-inline double kernelShape(double q) {
-  if (q < 1.0) return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
-  if (q < 2.0) {
-    const double t = 2.0 - q;
-    return 0.25 * t * t * t;
-  }
-  return 0.0;
-}
-
-/// kernelShape two values at a time, lane by lane the scalar operations (the same bits): both
-/// pieces are computed and one is selected. The artificial stress takes it for two pairs at a
-/// time (sph_forces.cpp, pairStressRatios).
-inline Lanes2 kernelShape(Lanes2 q) {
-  const Lanes2 t = 2.0 - q;
-  const Lanes2 inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
-  const Lanes2 outer = 0.25 * t * t * t;
-  return q < 1.0 ? inner : q < 2.0 ? outer : Lanes2{};
+/// T is double, or two doubles side by side (Lanes2: the artificial stress takes two pairs at a
+/// time, sph_forces.cpp) evaluated lane by lane with the same arithmetic, so the same bits:
+/// both pieces are computed and one is selected.
+template <class T>
+inline T kernelShape(T q) {
+  const T t = 2.0 - q;
+  const T inner = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
+  const T outer = 0.25 * t * t * t;
+  return q < 1.0 ? inner : q < 2.0 ? outer : T{};
 }
 
 /// W(r, h) = 1/(pi h^3) {1 - 1.5 q^2 + 0.75 q^3 (q < 1); 0.25 (2 - q)^3 (1 <= q < 2); 0},
