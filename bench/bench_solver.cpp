@@ -178,7 +178,7 @@ void BM_SphForces(benchmark::State& state) {
   Model m = particleCube(static_cast<int>(state.range(0)), order != 0);
   // order 2: renumbered at the start of step 5, and not again within the timed steps. Every
   // order times the same steps: the squeeze adds pairs from about step 57 on, and the pair
-  // arrays' growth then faults in fresh pages (~1 s on this VM, docs/performance.md).
+  // arrays' growth then faults in fresh pages (~1 s on this VM, docs/performance-history.md).
   if (order == 2) m.sph.controls.order_interval = 5;
   for (int i = 0; i < 6; ++i) step(m, 1.0);
   m.sph.controls.order_interval = 0;

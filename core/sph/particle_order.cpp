@@ -89,7 +89,8 @@ void renumberParticles(Model& model, const std::vector<int>& order) {
   // The snapshot of the last step's forces is the next step's previous configuration.
   forEachArray(ws.current, renumber);
   // Kept by index, and only a cost saving: the next step computes them afresh. Emptied, not
-  // freed: fresh pages for the pair arrays cost ~15 us each on this VM (docs/performance.md).
+  // freed: fresh pages for the pair arrays cost ~15 us each on this VM
+  // (docs/performance-history.md).
   ws.neighbours.offset.clear();
   ws.neighbours.index.clear();
   ws.pair_grad.clear();

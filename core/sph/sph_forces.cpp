@@ -116,7 +116,7 @@ std::size_t neighbourCount(const SphWorkspace& ws, std::size_t i) {
 /// grad_i W_ij of row i's pairs into `grad`, two pairs at a time: kernelGradient's arithmetic
 /// lane by lane, so the same bits, with one instruction for two pairs' square roots and
 /// divisions. Computed apart from the sums over them, which then run without those long
-/// chains in between: 5-10 % off the SPH step (docs/performance.md, twentieth session).
+/// chains in between: 5-10 % off the SPH step (docs/performance-history.md, twentieth session).
 void pairGradients(const Particles& pa, std::size_t i, const NeighbourList& nb,
                    std::vector<Vec3>& grad) {
   const std::size_t end = nb.offset[i + 1];
@@ -366,7 +366,7 @@ stabilisationForce(const SphSnapshot& s, const Particles& pa, std::size_t i, std
 /// The artificial stress's f^n of row i's pairs in the configuration `s`, into `ratio` (by
 /// position in the row) wherever i or j is in tension, two pairs at a time: stabilisationForce's
 /// arithmetic lane by lane, so the same bits. A pair's chain (square root, division, shape,
-/// division, power) is long; two side by side take one chain's time (docs/performance.md,
+/// division, power) is long; two side by side take one chain's time (docs/performance-history.md,
 /// forty-fifth session).
 void pairStressRatios(const SphSnapshot& s, std::size_t i, const NeighbourList& nb, int exponent,
                       std::vector<double>& ratio) {
@@ -540,7 +540,7 @@ void computeParticleForces(Model& model, double dt_last, SphWorkspace& ws) {
 
   // Sums in a fixed order (same for any thread count), over contiguous arrays: read from the
   // particles' states (a cache line each), this serial loop took 0.6 % of the SPH step's
-  // time on 2 threads, one thread waiting (docs/performance.md, twenty-sixth session).
+  // time on 2 threads, one thread waiting (docs/performance-history.md, twenty-sixth session).
   double internal = 0, plastic = 0, av = 0;
   for (std::size_t i = 0; i < n; ++i) {
     internal += ws.internal_energy[i];

@@ -85,8 +85,8 @@ struct SphWorkspace {
   /// step's value is this step's previous-configuration term, the same bits, not recomputed.
   std::vector<Vec3> pair_stab, pair_stab_last;
   /// Entry of each pair in the last step's list, or kNoLastPair. 32 bits: the pair arrays are
-  /// streamed twice a step (though their bytes are not what limits it: docs/performance.md,
-  /// nineteenth session).
+  /// streamed twice a step (though their bytes are not what limits it:
+  /// docs/performance-history.md, nineteenth session).
   std::vector<std::uint32_t> pair_last_slot;
   static constexpr std::uint32_t kNoLastPair = static_cast<std::uint32_t>(-1);
   SphSnapshot current, previous;
