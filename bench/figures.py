@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+"""The figures table of docs/performance.md from fesph_bench JSON files.
+
+    bench/figures.py RUN.json...
+
+Each file is one `build/fesph_bench --benchmark_format=json --benchmark_out=RUN.json` run
+(repetitions welcome). Prints, per case, the minimum and median ns per item over every
+repetition of every file (the triad's best and median GB/s), then the 2-thread speed-ups
+(1-thread minimum over 2-thread minimum) and the FE-SPH impact step over the FE-only one.
+"""
+import json
+import re
+import statistics
+import sys
+from collections import defaultdict
+
+
+def load(paths):
+    """case name -> list of values (ns per item, or GB/s for BM_Stream)."""
+    values = defaultdict(list)
+    for path in paths:
+        try:
+            with open(path) as f:
+                runs = json.load(f)["benchmarks"]
+        except (OSError, ValueError, KeyError) as e:
+            sys.exit(f"figures.py: {path}: not a fesph_bench JSON output ({e})")
+        for case in runs:
+            if case.get("run_type") != "iteration":
+                continue
+            name = case["run_name"].replace("/real_time", "")
+            if "bytes_per_s" in case:
+                values[name].append(case["bytes_per_s"] / 1e9)
+            elif "s_per_item" in case:
+                values[name].append(case["s_per_item"] * 1e9)
+    return values
+
+
+def main(paths):
+    if not paths:
+        sys.exit(__doc__.strip().split("\n\n")[1].strip())
+    values = load(paths)
+    if not values:
+        sys.exit("figures.py: no benchmark results in " + ", ".join(paths))
+    print(f"{'case':64s} {'best':>9s} {'median':>9s}  runs")
+    for name, v in values.items():
+        best = max(v) if name.startswith("BM_Stream") else min(v)
+        unit = "GB/s" if name.startswith("BM_Stream") else "ns"
+        print(f"{name:64s} {best:9.1f} {statistics.median(v):9.1f}  {len(v)}  {unit}")
+
+    best = {n: (max(v) if n.startswith("BM_Stream") else min(v)) for n, v in values.items()}
+    print("\n2-thread speed-up (minima):")
+    for name, t1 in best.items():
+        if "threads:1" not in name:
+            continue
+        two = name.replace("threads:1", "threads:2")
+        if two in best and best[two] > 0:
+            ratio = best[two] / t1 if name.startswith("BM_Stream") else t1 / best[two]
+            print(f"  {name.replace('/threads:1', ''):62s} {ratio:5.2f}")
+
+    print("\nFE-SPH impact step over FE only (minima, medians):")
+    for name in best:
+        m = re.match(r"BM_ImpactStep/(n:\d+)/mode:2/(threads:\d+)", name)
+        if not m:
+            continue
+        fe = name.replace("mode:2", "mode:1")
+        if fe in best:
+            print(f"  {m.group(1)} {m.group(2)}: {best[name] / best[fe]:.2f}x, "
+                  f"{statistics.median(values[name]) / statistics.median(values[fe]):.2f}x")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
