@@ -198,7 +198,8 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
   for (int t = 0; t < nthreads; ++t)
     for (const auto& [h, f] : w.thread_cells[t].items) w.bucket_faces[w.bucket_fill[grid.bucket(h)]++] = f;
 
-  // Query the slaves in parallel into per-thread lists, then copy them out in slave order.
+  // Query the slaves in parallel into per-thread lists, then copy them out in slave order (so
+  // any thread may take any slave: dynamic, as the slaves near the impact hold most faces).
   for (auto& list : w.thread_faces) list.items.clear();
   const std::size_t nq = w.queried.size();
   w.slave_thread.resize(nq);
@@ -206,7 +207,7 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
 #pragma omp parallel if (nq > 256)
   {
     std::vector<int>& list = w.thread_faces[threadId()].items;
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 64)
     for (std::size_t q = 0; q < nq; ++q) {
       const std::size_t i = static_cast<std::size_t>(w.queried[q]);
       const int a = out.slaves[i];

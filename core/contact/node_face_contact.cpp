@@ -118,8 +118,9 @@ void enforceNodeFaceContact(Model& model, double dt, const ContactControls& cont
       };
       const std::size_t begin = first(cand.body_begin[b]), end = first(cand.body_begin[b + 1]);
       // Find, in parallel, the face each slave of body b moves into fastest: the one it is
-      // crossing (a node on an edge also grazes the faces on the other side of it)...
-#pragma omp parallel for schedule(static) if (end - begin > 256)
+      // crossing (a node on an edge also grazes the faces on the other side of it)... Dynamic:
+      // the slaves' candidate counts differ, and each slave's answer has its own slot.
+#pragma omp parallel for schedule(dynamic, 64) if (end - begin > 256)
       for (std::size_t j = begin; j < end; ++j) {
         const std::size_t i = static_cast<std::size_t>(active[j]);
         int best = -1;
