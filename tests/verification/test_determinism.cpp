@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Issue 11: the same answer whatever the thread count. Two copper bars collide head-on with
 // FE -> SPH conversion, node-face, particle-face, tie and particle-particle contact; big enough
-// (7776 tets) that every parallel loop, the fixed-order sums (blocks of 4096) and the contact
+// (7776 tets) that every parallel loop, the fixed-order sums (blocks of 1024) and the contact
 // search (parallel above 256 slaves) split over the threads.
 #include "core/material/library.hpp"
 #include "core/mesh/structured_box.hpp"
