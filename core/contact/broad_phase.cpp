@@ -199,7 +199,7 @@ void findContactCandidates(Model& model, double dt, double depth_tolerance) {
     for (const auto& [h, f] : w.thread_cells[t].items) w.bucket_faces[w.bucket_fill[grid.bucket(h)]++] = f;
 
   // Query the slaves in parallel into per-thread lists, then copy them out in slave order (so
-  // any thread may take any slave: dynamic, as the slaves near the impact hold most faces).
+  // any thread may take any slave: dynamic, as their candidate counts differ).
   for (auto& list : w.thread_faces) list.items.clear();
   const std::size_t nq = w.queried.size();
   w.slave_thread.resize(nq);
