@@ -6,7 +6,8 @@
 Each file is one `build/fesph_bench --benchmark_format=json --benchmark_out=RUN.json` run
 (repetitions welcome). Prints, per case, the minimum and median ns per item over every
 repetition of every file (the triad's best and median GB/s), then the 2-thread speed-ups
-(1-thread minimum over 2-thread minimum) and the FE-SPH impact step over the FE-only one.
+(1-thread minimum over 2-thread minimum; target 1.8), the FE-SPH impact step over the
+FE-only one (target <= 2x) and issue 11's rate targets in millions of items per second.
 """
 import json
 import re
@@ -65,7 +66,28 @@ def main(paths):
         fe = name.replace("mode:2", "mode:1")
         if fe in best:
             print(f"  {m.group(1)} {m.group(2)}: {best[name] / best[fe]:.2f}x, "
-                  f"{statistics.median(values[name]) / statistics.median(values[fe]):.2f}x")
+                  f"{statistics.median(values[name]) / statistics.median(values[fe]):.2f}x "
+                  "(target <= 2x)")
+    lines = targets(best)
+    if lines:
+        print("\nIssue 11's rate targets (minima):")
+        print("\n".join(lines))
+
+
+def targets(best):
+    """Issue 11's rate targets from the 2-thread minima (the cases present)."""
+    rates = [("element kernel", r"BM_ElementKernel/.*threads:2", 20.0),
+             ("SPH step", r"BM_SphForces/.*threads:2", 1.0),
+             ("FE-only impact step", r"BM_ImpactStep/n:\d+/mode:1/threads:2", 6.0)]
+    lines = []
+    for label, pattern, target in rates:
+        found = {n: 1e3 / ns for n, ns in best.items() if re.match(pattern, n) and ns > 0}
+        if found:
+            lo, hi = min(found.values()), max(found.values())
+            verdict = "met" if lo >= target else ("missed" if hi < target else "met by some")
+            lines.append(f"  {label}: {lo:.2f}-{hi:.2f} M items/s on 2 threads, "
+                         f"target >= {target:g}: {verdict}")
+    return lines
 
 
 if __name__ == "__main__":
