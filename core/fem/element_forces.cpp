@@ -16,15 +16,6 @@ namespace fesph {
 
 namespace {
 
-/// The four nodes of an element, by reference: copying them (24-byte vectors) onto the stack
-/// cost more than the arithmetic on them (store-forwarding stalls on the reloads).
-struct Corners {
-  std::array<const Vec3*, 4> p;
-  Corners(const std::vector<Vec3>& field, const std::array<int, 4>& n)
-      : p{&field[n[0]], &field[n[1]], &field[n[2]], &field[n[3]]} {}
-  const Vec3& operator[](int k) const { return *p[k]; }
-};
-
 [[noreturn]] void invertedElement(const Model& model, std::size_t e) {
   const Body& b = model.bodies[model.elems.body[e]];
   throw RunError("element " + std::to_string(e) + " of body '" + b.name +
@@ -56,43 +47,179 @@ void finishDeviatoricWork(Model& model, const DeviatoricStep& y, double dt) {
   st.e += dev_work / mass;
 }
 
-// Pass A up to the return: strain rate at the midpoint configuration of the last interval,
-// deviatoric trial, new volume. An element that yields is appended to `yielding`, the rest
-// is done (its plastic work is 0). Returns false when the element has inverted (its state is
-// left as it was).
-bool updateKinematicsAndTrial(Model& model, std::size_t e, double dt, PassAScratch& yielding) {
-  Elements& el = model.elems;
+// Pass A takes four elements at a time through its arithmetic (kinematics and trial stress):
+// each lane of a Lanes4 is one element and takes the operations of the scalar functions it
+// stands for (tetGeometry, tetVolume, the velocity gradient, Sym::fromMatrix, jaumannRate,
+// the trial in trialDeviatoricStress, vonMises) in their order and without FMA, so each lane
+// has their bits (tests/unit/test_fem.cpp, "pass A four elements at a time"). The lanes'
+// helpers are always inlined, so their vector arguments cross no call: -Wpsabi's note on
+// their ABI does not apply (it is given at the end of the file, so off from here on).
+#pragma GCC diagnostic ignored "-Wpsabi"
+using Lanes4 = double __attribute__((vector_size(32)));
+struct Vec3L {
+  Lanes4 x, y, z;
+};
+
+[[gnu::always_inline]] inline Vec3L operator-(const Vec3L& a, const Vec3L& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+[[gnu::always_inline]] inline Vec3L operator*(const Vec3L& a, Lanes4 c) {
+  return {a.x * c, a.y * c, a.z * c};
+}
+// Eigen's cross and dot of 3-vectors, term for term (dot: t0 + (t1 + t2), its unrolled sum)
+[[gnu::always_inline]] inline Vec3L cross(const Vec3L& a, const Vec3L& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+[[gnu::always_inline]] inline Lanes4 dot(const Vec3L& a, const Vec3L& b) {
+  return a.x * b.x + (a.y * b.y + a.z * b.z);
+}
+[[gnu::always_inline]] inline Vec3L gather(const Vec3* const p[4]) {
+  return {Lanes4{p[0]->x(), p[1]->x(), p[2]->x(), p[3]->x()},
+          Lanes4{p[0]->y(), p[1]->y(), p[2]->y(), p[3]->y()},
+          Lanes4{p[0]->z(), p[1]->z(), p[2]->z(), p[3]->z()}};
+}
+[[gnu::always_inline]] inline void store(double* to, Lanes4 v) {
+  __builtin_memcpy(to, &v, sizeof v);
+}
+
+/// What pass A's arithmetic leaves for each of four elements, one row of lanes a quantity.
+struct PassALanes {
+  double vol_mid[4];     ///< volume at the midpoint configuration (the rate's), m^3
+  double vol[4];         ///< volume at x^n, m^3
+  double rho[4];         ///< density at x^n, kg/m^3
+  double D[6][4];        ///< rate of deformation, 1/s (in Sym's order)
+  double s_tr[6][4];     ///< trial deviatoric stress, Pa
+  double sigma_eq[4];    ///< its von Mises equivalent, Pa
+  double de_elastic[4];  ///< finishDeviatoricWork's energy increment if s_tr stays, J/kg
+};
+
+// Pass A's arithmetic for the four elements `group` (a group may repeat an element; a lane
+// whose element is not live computes on its nodes and is ignored): the rate of deformation
+// and spin at the midpoint configuration of the last interval, x^{n-1/2} = x^n - dt/2
+// v^{n-1/2}, the volume and density at x^n, the deviatoric trial stress and its equivalent.
+// Cloned for AVX (four lanes an instruction) and the baseline x86-64 (two), chosen at load.
+[[gnu::target_clones("avx", "default")]] void passALanes(const Model& model,
+                                                         const std::array<std::size_t, 4>& group,
+                                                         double dt, PassALanes& out) {
+  const Elements& el = model.elems;
   const Nodes& nd = model.nodes;
-  const Material& mat = model.materials[el.material[e]];
-  const auto& c = el.conn[e];
-  const Corners x(nd.x, c), v(nd.v, c);
-
-  // x^{n-1/2} = x^n - dt/2 v^{n-1/2}: the configuration at which the rate is centred.
-  const double half_dt = 0.5 * dt;
-  const TetGeometry gm = tetGeometry(x[0] - half_dt * v[0], x[1] - half_dt * v[1],
-                                     x[2] - half_dt * v[2], x[3] - half_dt * v[3]);
-  const double vol = tetVolume(x[0], x[1], x[2], x[3]);  // same bits as tetGeometry's
-  if (!(vol > 0) || !(gm.volume > 0)) return false;
-
-  Mat3 L = Mat3::Zero();  // velocityGradient (tet4.hpp) on the nodes in place
-  for (int a = 0; a < 4; ++a) L.noalias() += v[a] * gm.grad[a].transpose();
-  const Sym D = Sym::fromMatrix(L);
-  const Mat3 W = 0.5 * (L - L.transpose());
-  PointState& st = el.state[e];
-  const Sym s_old = st.s;
-  PendingReturn r;
-  if (trialDeviatoricStress(mat, D, W, dt, el.rho[e], st, r, &el.yield_cache[e])) {
-    yielding.steps.push_back({e, s_old, D, gm.volume});
-    yielding.returns.push_back(r);
-  } else {
-    finishDeviatoricWork(model, {e, s_old, D, gm.volume}, dt);
+  // Each lane built from registers (four loads, then the lanes joined): written lane by lane
+  // in memory, a vector is read back before its stores can forward to it.
+  const Vec3 *px[4][4], *pv[4][4];  // [corner][lane]
+  const Sym* ps[4];
+  const Material* pm[4];
+  for (int k = 0; k < 4; ++k) {
+    const std::size_t e = group[k];
+    for (int a = 0; a < 4; ++a) {
+      px[a][k] = &nd.x[el.conn[e][a]];
+      pv[a][k] = &nd.v[el.conn[e][a]];
+    }
+    ps[k] = &el.state[e].s;
+    pm[k] = &model.materials[el.material[e]];
   }
+  Vec3L x[4], v[4];
+  for (int a = 0; a < 4; ++a) {
+    x[a] = gather(px[a]);
+    v[a] = gather(pv[a]);
+  }
+  const Lanes4 s[6] = {
+      Lanes4{ps[0]->xx, ps[1]->xx, ps[2]->xx, ps[3]->xx},
+      Lanes4{ps[0]->yy, ps[1]->yy, ps[2]->yy, ps[3]->yy},
+      Lanes4{ps[0]->zz, ps[1]->zz, ps[2]->zz, ps[3]->zz},
+      Lanes4{ps[0]->xy, ps[1]->xy, ps[2]->xy, ps[3]->xy},
+      Lanes4{ps[0]->yz, ps[1]->yz, ps[2]->yz, ps[3]->yz},
+      Lanes4{ps[0]->zx, ps[1]->zx, ps[2]->zx, ps[3]->zx}};
+  const Lanes4 G2dt = Lanes4{pm[0]->G, pm[1]->G, pm[2]->G, pm[3]->G} * 2.0 * dt;
+  const Lanes4 mass = Lanes4{pm[0]->rho0, pm[1]->rho0, pm[2]->rho0, pm[3]->rho0} *
+                      Lanes4{el.V0[group[0]], el.V0[group[1]], el.V0[group[2]], el.V0[group[3]]};
+  const Lanes4 half_dt = Lanes4{} + 0.5 * dt;
+  Vec3L m[4];
+  for (int a = 0; a < 4; ++a) m[a] = x[a] - v[a] * half_dt;
+  // tetGeometry at the midpoint, tetVolume at x^n
+  const Vec3L e1 = m[1] - m[0], e2 = m[2] - m[0], e3 = m[3] - m[0];
+  const Vec3L c23 = cross(e2, e3), c31 = cross(e3, e1), c12 = cross(e1, e2);
+  const Lanes4 det = dot(e1, c23);
+  const Lanes4 inv = 1.0 / det;
+  Vec3L g[4];
+  g[1] = c23 * inv;
+  g[2] = c31 * inv;
+  g[3] = c12 * inv;
+  g[0] = {-((g[1].x + g[2].x) + g[3].x), -((g[1].y + g[2].y) + g[3].y),
+          -((g[1].z + g[2].z) + g[3].z)};
+  const Lanes4 vol = dot(x[1] - x[0], cross(x[2] - x[0], x[3] - x[0])) / 6.0;
+  store(out.vol_mid, det / 6.0);
+  store(out.vol, vol);
+  store(out.rho, mass / vol);
 
-  const double mass = mat.rho0 * el.V0[e];
-  el.dV[e] = vol - el.V[e];
-  el.V[e] = vol;
-  el.rho[e] = mass / vol;
+  // L_ij = sum_a v_a,i dN_a/dx_j from zero, as Mat3's += of outer products; D and W from it
+  Lanes4 L[3][3] = {};
+  for (int a = 0; a < 4; ++a) {
+    const Lanes4 va[3] = {v[a].x, v[a].y, v[a].z}, ga[3] = {g[a].x, g[a].y, g[a].z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L[i][j] += ga[j] * va[i];
+  }
+  const Lanes4 D[6] = {L[0][0], L[1][1], L[2][2], 0.5 * (L[0][1] + L[1][0]),
+                       0.5 * (L[1][2] + L[2][1]), 0.5 * (L[2][0] + L[0][2])};
+  Lanes4 W[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) W[i][j] = 0.5 * (L[i][j] - L[j][i]);
 
+  // the Jaumann rotation W s - s W = M + M^T with M = W s, and the elastic trial
+  // s + dt (W s - s W) + 2 G dt dev(D)
+  const Lanes4 S[3][3] = {{s[0], s[3], s[5]}, {s[3], s[1], s[4]}, {s[5], s[4], s[2]}};
+  Lanes4 M[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      M[i][j] = W[i][0] * S[0][j] + (W[i][1] * S[1][j] + W[i][2] * S[2][j]);
+  const Lanes4 rotation[6] = {2.0 * M[0][0],     2.0 * M[1][1],     2.0 * M[2][2],
+                              M[0][1] + M[1][0], M[1][2] + M[2][1], M[2][0] + M[0][2]};
+  const Lanes4 mean = ((D[0] + D[1]) + D[2]) / 3.0;
+  const Lanes4 dev_D[6] = {D[0] - mean, D[1] - mean, D[2] - mean, D[3], D[4], D[5]};
+  Lanes4 tr[6];
+  for (int k = 0; k < 6; ++k) {
+    tr[k] = (s[k] + rotation[k] * dt) + dev_D[k] * G2dt;
+    store(out.D[k], D[k]);
+    store(out.s_tr[k], tr[k]);
+  }
+  // Sym::dot, for vonMises and for finishDeviatoricWork
+  const auto contract = [](const Lanes4* a, const Lanes4* b) {
+    return ((a[0] * b[0] + a[1] * b[1]) + a[2] * b[2]) +
+           2.0 * ((a[3] * b[3] + a[4] * b[4]) + a[5] * b[5]);
+  };
+  const Lanes4 q = 1.5 * contract(tr, tr);
+  for (int k = 0; k < 4; ++k) out.sigma_eq[k] = std::sqrt(q[k]);
+  Lanes4 mid[6];
+  for (int k = 0; k < 6; ++k) mid[k] = s[k] + tr[k];
+  store(out.de_elastic, 0.5 * contract(mid, D) * (det / 6.0) * dt / mass);
+}
+
+// Pass A for live element e once its arithmetic is done (lane k of `a`): the trial stress and
+// the new volume and density; an element that yields is appended to `yielding`, the rest is
+// done (its plastic work is 0). Returns false when the element has inverted (its state is
+// left as it was).
+bool finishKinematicsAndTrial(Model& model, std::size_t e, double dt, const PassALanes& a,
+                              int k, PassAScratch& yielding) {
+  Elements& el = model.elems;
+  if (!(a.vol[k] > 0) || !(a.vol_mid[k] > 0)) return false;
+  const Material& mat = model.materials[el.material[e]];
+  const Sym D{a.D[0][k], a.D[1][k], a.D[2][k], a.D[3][k], a.D[4][k], a.D[5][k]};
+  const Sym s_tr{a.s_tr[0][k], a.s_tr[1][k], a.s_tr[2][k],
+                 a.s_tr[3][k], a.s_tr[4][k], a.s_tr[5][k]};
+  PointState& st = el.state[e];
+  const DeviatoricStep step{e, st.s, D, a.vol_mid[k]};
+  PendingReturn r;
+  const bool failed = st.damage >= 1.0;  // its stress goes to 0, not to s_tr
+  if (yieldsAtTrial(mat, s_tr, a.sigma_eq[k], dt, el.rho[e], st, r, &el.yield_cache[e])) {
+    yielding.steps.push_back(step);
+    yielding.returns.push_back(r);
+  } else if (failed) {
+    finishDeviatoricWork(model, step, dt);
+  } else {
+    st.e += a.de_elastic[k];
+  }
+  el.dV[e] = a.vol[k] - el.V[e];
+  el.V[e] = a.vol[k];
+  el.rho[e] = a.rho[k];
   el.div_v[e] = D.trace();
   return true;
 }
@@ -190,11 +317,20 @@ void computeElementForces(Model& model, double dt_last) {
         thread_local PassAScratch yielding;
         yielding.steps.clear();
         yielding.returns.clear();
-        for (std::size_t e = begin; e < end; ++e) {
-          if (el.status[e] != ElemStatus::Live) continue;
-          if (!updateKinematicsAndTrial(model, e, dt_last, yielding)) {
-            el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
-            sum[1] += 1;
+        PassALanes lanes;
+        for (std::size_t e0 = begin; e0 < end; e0 += 4) {
+          // the block's last group: its lanes past the end repeat the block's last element
+          const int count = static_cast<int>(std::min<std::size_t>(4, end - e0));
+          std::array<std::size_t, 4> group;
+          for (int k = 0; k < 4; ++k) group[k] = e0 + std::min(k, count - 1);
+          passALanes(model, group, dt_last, lanes);
+          for (int k = 0; k < count; ++k) {
+            const std::size_t e = e0 + k;
+            if (el.status[e] != ElemStatus::Live) continue;
+            if (!finishKinematicsAndTrial(model, e, dt_last, lanes, k, yielding)) {
+              el.dt[e] = -1.0;  // marks the inverted element for the serial pass below
+              sum[1] += 1;
+            }
           }
         }
         completeReturns(yielding.returns.data(), yielding.returns.size());

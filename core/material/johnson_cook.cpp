@@ -189,19 +189,22 @@ void applyReturn(PendingReturn& r, double dlam, double sigma_y, double hardening
 /// This function takes the first two steps; completeReturns the third and the rest.
 bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, double dt,
                            double rho, PointState& st, PendingReturn& r, YieldCache* cache) {
+  const Sym s_tr = st.s + jaumannRate(W, st.s) * dt + D.deviator() * (2.0 * mat.G * dt);
+  return yieldsAtTrial(mat, s_tr, vonMises(s_tr), dt, rho, st, r, cache);
+}
+
+bool yieldsAtTrial(const Material& mat, const Sym& s_tr, double sigma_eq_tr, double dt,
+                   double rho, PointState& st, PendingReturn& r, YieldCache* cache) {
   const double guess = st.eps_rate * dt;
   st.eps_rate = 0.0;
   if (st.damage >= 1.0) {  // a failed point carries no deviatoric stress
     st.s = Sym{};
     return false;
   }
-  const Sym dev_D = D.deviator();
-  const Sym s_tr = st.s + jaumannRate(W, st.s) * dt + dev_D * (2.0 * mat.G * dt);
   st.s = s_tr;
 
   // Inside the quasi-static yield surface: elastic. Always so for the Elastic model.
   if (mat.strength == StrengthModel::Elastic) return false;
-  const double sigma_eq_tr = vonMises(s_tr);
   YieldCache fresh;
   YieldCache& c = cache ? *cache : fresh;
   if (c.mat != &mat) c = YieldCache{&mat};

@@ -156,6 +156,11 @@ bool trialDeviatoricStress(const Material& mat, const Sym& D, const Mat3& W, dou
                            double rho, PointState& st, PendingReturn& r,
                            YieldCache* cache = nullptr);
 
+/// trialDeviatoricStress from its trial stress s_tr = s + dt (W s - s W) + 2 G dt dev(D) and
+/// von Mises equivalent, computed by the caller (the element pass takes four points at once).
+bool yieldsAtTrial(const Material& mat, const Sym& s_tr, double sigma_eq_tr, double dt,
+                   double rho, PointState& st, PendingReturn& r, YieldCache* cache);
+
 /// The second half for `count` yielding points: radial return, heating, damage, and r[k].work.
 /// Several points are iterated side by side, so the processor overlaps one point's pow and log
 /// with another's; each point takes the same operations as alone (the same bits).

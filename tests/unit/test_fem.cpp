@@ -322,6 +322,87 @@ TEST_CASE("an element's altitude at its first force pass is kept as its referenc
   }
 }
 
+TEST_CASE("pass A four elements at a time: each element gets the scalar functions' bits",
+          "[unit][fem]") {
+  // Reference: pass A takes four elements through one instruction stream (element_forces.cpp,
+  // passALanes), each lane with the operations of tetGeometry, tetVolume, velocityGradient,
+  // Sym::fromMatrix and the trial of updateDeviatoricStress in their order. So an element's
+  // volume, density, divergence and stress history after the pass must equal, bit for bit,
+  // what those scalar functions give it one element at a time. Mixed on purpose: two
+  // materials (one hardening, rate-dependent, heating, with damage), elements that yield and
+  // that do not, failed ones (damage 1), a converted one inside a group of four, and an
+  // element count that is not a multiple of four (the last group repeats its last element).
+  Material copper = fesph::testing::perfectlyPlasticMaterial();
+  copper.A = 90e6, copper.B = 292e6, copper.n = 0.31, copper.C = 0.025, copper.m = 1.09;
+  copper.T_melt = 1356, copper.cp = 383, copper.damage = true;
+  copper.D1 = 0.54, copper.D2 = 4.89, copper.D3 = -3.03, copper.D4 = 0.014, copper.D5 = 1.12;
+  REQUIRE(finaliseMaterial(copper).empty());
+  Model m = boxModel(fesph::testing::perfectlyPlasticMaterial(), Vec3(1.5e-3, 1.5e-3, 5e-4), 3, 3, 1);
+  m.materials.push_back(copper);
+  const std::size_t ne = m.elems.size();
+  REQUIRE(ne % 4 != 0);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t a = 0; a < m.nodes.size(); ++a) {
+    m.nodes.x[a] = m.nodes.x0[a] + 1e-5 * Vec3(u(rng), u(rng), u(rng));
+    m.nodes.v[a] = 300.0 * Vec3(u(rng), u(rng), u(rng));
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    m.elems.material[e] = (e % 3 == 0) ? 1 : 0;
+    PointState& st = m.elems.state[e];
+    st.s = Sym{u(rng), u(rng), 0, u(rng), u(rng), u(rng)} * 2e8;
+    st.s.zz = -(st.s.xx + st.s.yy);
+    st.eps_p = 0.3 * (1 + u(rng));
+    st.eps_rate = 1e4 * (1 + u(rng));
+    st.T = 400 + 100 * u(rng);
+    st.damage = (e % 7 == 3) ? 1.0 : 0.4 * (1 + u(rng));
+  }
+  m.elems.status[5] = ElemStatus::Converted;
+  const Model before = m;
+  const double dt = 2e-9;
+  computeElementForces(m, dt);
+
+  int yielded = 0, elastic = 0;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const Elements& el = before.elems;
+    if (el.status[e] != ElemStatus::Live) {
+      CHECK(m.elems.V[e] == el.V[e]);
+      continue;
+    }
+    const auto& c = el.conn[e];
+    std::array<Vec3, 4> x, v, mid;
+    for (int a = 0; a < 4; ++a) {
+      x[a] = before.nodes.x[c[a]];
+      v[a] = before.nodes.v[c[a]];
+      mid[a] = x[a] - 0.5 * dt * v[a];
+    }
+    const TetGeometry g = tetGeometry(mid[0], mid[1], mid[2], mid[3]);
+    const double vol = tetVolume(x[0], x[1], x[2], x[3]);
+    const Mat3 L = velocityGradient(v, g.grad);
+    const Material& mat = before.materials[el.material[e]];
+    PointState st = el.state[e];
+    const double eps_p0 = st.eps_p;
+    updateDeviatoricStress(mat, Sym::fromMatrix(L), 0.5 * (L - L.transpose()), dt, el.rho[e], st);
+    (st.eps_p > eps_p0 ? yielded : elastic) += 1;
+    const PointState& got = m.elems.state[e];
+    INFO("element " << e);
+    CHECK(m.elems.V[e] == vol);
+    CHECK(m.elems.rho[e] == mat.rho0 * el.V0[e] / vol);
+    CHECK(m.elems.div_v[e] == Sym::fromMatrix(L).trace());
+    CHECK(got.s.xx == st.s.xx);
+    CHECK(got.s.yy == st.s.yy);
+    CHECK(got.s.zz == st.s.zz);
+    CHECK(got.s.xy == st.s.xy);
+    CHECK(got.s.yz == st.s.yz);
+    CHECK(got.s.zx == st.s.zx);
+    CHECK(got.eps_p == st.eps_p);
+    CHECK(got.T == st.T);
+    CHECK(got.damage == st.damage);
+  }
+  CHECK(yielded > 10);
+  CHECK(elastic > 10);
+}
+
 TEST_CASE("the central difference stays second order when the step changes",
           "[unit][fem][conservation]") {
   // Reference: leapfrog with a varying step, v^{n+1/2} = v^{n-1/2} + (dt^{n-1/2} +
