@@ -2,7 +2,8 @@
 // Two doubles side by side, and the 3x3 products of the SPH passes built with them: the sum of
 // outer products of the kinematics and the pair stress term of the forces. The project is
 // built for the baseline x86-64 (SSE2) and Eigen without vectorisation, so these are where two
-// values share an instruction.
+// values share an instruction (and the element pass's four-element lanes, element_forces.cpp,
+// cloned for AVX).
 #pragma once
 
 #include "core/common/types.hpp"
