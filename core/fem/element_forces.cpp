@@ -52,9 +52,7 @@ void finishDeviatoricWork(Model& model, const DeviatoricStep& y, double dt) {
 // stands for (tetGeometry, tetVolume, the velocity gradient, Sym::fromMatrix, jaumannRate,
 // the trial in trialDeviatoricStress, vonMises) in their order and without FMA, so each lane
 // has their bits (tests/unit/test_fem.cpp, "pass A four elements at a time"). The lanes'
-// helpers are always inlined, so their vector arguments cross no call: -Wpsabi's note on
-// their ABI does not apply (it is given at the end of the file, so off from here on).
-#pragma GCC diagnostic ignored "-Wpsabi"
+// helpers are always inlined: their vectors cross no call (CMakeLists.txt, -Wno-psabi).
 using Lanes4 = double __attribute__((vector_size(32)));
 struct Vec3L {
   Lanes4 x, y, z;
@@ -80,6 +78,14 @@ struct Vec3L {
 }
 [[gnu::always_inline]] inline void store(double* to, Lanes4 v) {
   __builtin_memcpy(to, &v, sizeof v);
+}
+
+/// The elements e0 .. e0+3 for the lanes; a block's last group, past `end`, repeats its last
+/// element in the lanes left over.
+std::array<std::size_t, 4> groupOfFour(std::size_t e0, std::size_t end) {
+  std::array<std::size_t, 4> group;
+  for (std::size_t k = 0; k < 4; ++k) group[k] = std::min(e0 + k, end - 1);
+  return group;
 }
 
 /// What pass A's arithmetic leaves for each of four elements, one row of lanes a quantity.
@@ -301,6 +307,171 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
   return mass * st.e;
 }
 
+// Pass C for four elements of one material (`group`, as in pass A), each lane with the
+// operations of volumetricResponseAndForces (and of tetGeometry, eosAtDensities,
+// EosAtDensity::pressure and viscosityAndStableStep in it) in their order: the branches
+// (compressed or expanded, viscosity in compression only, a failed point's pressure cut) are
+// taken in every lane and selected. Writes what that function writes for each of the first
+// `count` lanes that is live; `energy` and `q_work` receive its return value and q_work.
+[[gnu::target_clones("avx", "default")]] void passCLanes(Model& model,
+                                                         const std::array<std::size_t, 4>& group,
+                                                         int count, bool anp, double energy[4],
+                                                         double q_work[4]) {
+  Elements& el = model.elems;
+  const Nodes& nd = model.nodes;
+  const SolverControls& ctl = model.controls;
+  const Material& mat = model.materials[el.material[group[0]]];
+  const Vec3* px[4][4];  // [corner][lane]
+  const PointState* ps[4];
+  for (int k = 0; k < 4; ++k) {
+    for (int a = 0; a < 4; ++a) px[a][k] = &nd.x[el.conn[group[k]][a]];
+    ps[k] = &el.state[group[k]];
+  }
+  const auto lanes = [&](auto field) {
+    return Lanes4{field(group[0], 0), field(group[1], 1), field(group[2], 2), field(group[3], 3)};
+  };
+  const Lanes4 rho = lanes([&](std::size_t e, int) { return el.rho[e]; });
+  const Lanes4 mass = mat.rho0 * lanes([&](std::size_t e, int) { return el.V0[e]; });
+
+  // the volumetric deformation: own, or ANP's mean of the nodes blended with a share of own
+  Lanes4 rho_vol = rho;
+  double own = 1.0;
+  if (anp) {
+    Lanes4 J = {};
+    for (int a = 0; a < 4; ++a)
+      J += lanes([&](std::size_t e, int) { return model.nodal_volume_ratio[el.conn[e][a]]; });
+    rho_vol = mat.rho0 / (0.25 * J);
+    own = ctl.anp_element_fraction;
+  }
+
+  // tetGeometry at x^n with the altitude
+  Vec3L x[4];
+  for (int a = 0; a < 4; ++a) x[a] = gather(px[a]);
+  const Vec3L e1 = x[1] - x[0], e2 = x[2] - x[0], e3 = x[3] - x[0];
+  const Vec3L c23 = cross(e2, e3), c31 = cross(e3, e1), c12 = cross(e1, e2);
+  const Lanes4 det = dot(e1, c23);
+  const Lanes4 volume = det / 6.0;
+  const Lanes4 inv = 1.0 / det;
+  Vec3L g[4];
+  g[1] = c23 * inv;
+  g[2] = c31 * inv;
+  g[3] = c12 * inv;
+  g[0] = {-((g[1].x + g[2].x) + g[3].x), -((g[1].y + g[2].y) + g[3].y),
+          -((g[1].z + g[2].z) + g[3].z)};
+  const auto max = [](Lanes4 a, Lanes4 b) { return a < b ? b : a; };  // std::max's choice
+  const Vec3L c0 = cross(x[2] - x[1], x[3] - x[1]);
+  const Lanes4 largest = max(max(dot(c0, c0), dot(c23, c23)), max(dot(c31, c31), dot(c12, c12)));
+  Lanes4 root, abs_volume;
+  for (int k = 0; k < 4; ++k) root[k] = std::sqrt(largest[k]), abs_volume[k] = std::abs(volume[k]);
+  const Lanes4 len = 3.0 * abs_volume / (0.5 * root);
+
+  // eosAtDensities at rho_vol (avg) and rho (own)
+  using Mask4 = decltype(Lanes4{} < Lanes4{});  // a lane all ones where true
+  struct EosLanes {
+    Lanes4 p_ref, e_ref = {}, c2;
+    Mask4 compressed = {};
+  };
+  const auto eosAt = [&](Lanes4 r) {
+    EosLanes out;
+    if (mat.eos == EosModel::Linear) {
+      out.p_ref = mat.K * (r / mat.rho0 - 1.0);
+      out.c2 = (mat.K + 4.0 * mat.G / 3.0) / r;
+      return out;
+    }
+    Lanes4 eta = 1.0 - mat.rho0 / r;
+    if (mat.s > 0.0) {
+      const double cap = (1.0 - 0.1) / mat.s;  // clampCompression's: std::min(eta, cap)
+      eta = cap < eta ? Lanes4{} + cap : eta;
+    }
+    const double rc2 = mat.rho0 * mat.c0 * mat.c0;
+    const Lanes4 den = 1.0 - mat.s * eta;
+    const Lanes4 p_hugoniot = rc2 * eta / (den * den);
+    const Lanes4 e_hugoniot = p_hugoniot * eta / (2.0 * mat.rho0);
+    const Lanes4 eta_t = 0.0 < eta ? eta : Lanes4{};
+    const Lanes4 den_t = 1.0 - mat.s * eta_t;
+    const Lanes4 Kt = rc2 * (1.0 + mat.s * eta_t) / (den_t * den_t * den_t);
+    out.c2 = (Kt + 4.0 * mat.G / 3.0) / r;
+    out.compressed = eta > 0.0;
+    out.p_ref = out.compressed ? p_hugoniot : rc2 * eta;
+    out.e_ref = out.compressed ? e_hugoniot : Lanes4{};
+    return out;
+  };
+  const EosLanes eos_avg = eosAt(rho_vol), eos_own = eosAt(rho);
+  const Lanes4 damage = lanes([&](std::size_t, int k) { return ps[k]->damage; });
+  // EosAtDensity::pressure: Gamma0 rho0 (e - e_ref) compressed, Gamma0 rho0 e expanded
+  const auto pressureAt = [&](const EosLanes& eos, Lanes4 e_spec) {
+    Lanes4 p = eos.p_ref;
+    if (mat.eos != EosModel::Linear)
+      p = eos.p_ref + mat.gamma0 * mat.rho0 * (eos.compressed ? e_spec - eos.e_ref : e_spec);
+    return damage >= 1.0 ? (p < 0.0 ? Lanes4{} : p) : p;
+  };
+  const auto pressure = [&](Lanes4 e_spec) {
+    const Lanes4 p_avg = pressureAt(eos_avg, e_spec);
+    return own == 1.0 ? p_avg : (1 - own) * p_avg + own * pressureAt(eos_own, e_spec);
+  };
+
+  // viscosityAndStableStep
+  const Lanes4 trD = lanes([&](std::size_t e, int) { return el.div_v[e]; });
+  Lanes4 c_wave;
+  {
+    const Lanes4 c2 = (1 - own) * eos_avg.c2 + own * eos_own.c2;
+    for (int k = 0; k < 4; ++k) c_wave[k] = std::sqrt(c2[k]);
+  }
+  const Lanes4 q_compress = rho * len * (ctl.bulk_quadratic * len * trD * trD -
+                                         ctl.bulk_linear * c_wave * trD);
+  const Lanes4 Q = ctl.bulk_linear * c_wave + ctl.bulk_quadratic * len * (-trD);
+  Lanes4 root_q;
+  {
+    const Lanes4 qq = Q * Q + c_wave * c_wave;
+    for (int k = 0; k < 4; ++k) root_q[k] = std::sqrt(qq[k]);
+  }
+  const auto compression = trD < 0;
+  const Lanes4 q = compression ? q_compress : Lanes4{};
+  const Lanes4 dt = compression ? len / (Q + root_q) : len / c_wave;
+
+  // the energy, trapezoidal in pressure (predictor, corrector)
+  const Lanes4 dV = lanes([&](std::size_t e, int) { return el.dV[e]; });
+  const Lanes4 p_old = lanes([&](std::size_t, int k) { return ps[k]->p; });
+  Lanes4 e_spec = lanes([&](std::size_t, int k) { return ps[k]->e; });
+  Lanes4 p_new = pressure(e_spec - (p_old + q) * dV / mass);
+  const Lanes4 vol_work = -(0.5 * (p_old + p_new) + q) * dV;
+  e_spec += vol_work / mass;
+  p_new = pressure(e_spec);
+
+  // corner forces -V sigma grad N_a with sigma = s - (p + q) I; Eigen takes the scalar -V into
+  // the matrix and sums each row t0 + (t1 + t2)
+  const Lanes4 pq = p_new + q, minus_volume = -volume;
+  const auto scaled = [&](double Sym::*c) {
+    return minus_volume * lanes([&](std::size_t, int k) { return ps[k]->s.*c; });
+  };
+  const Lanes4 sxx = minus_volume * (lanes([&](std::size_t, int k) { return ps[k]->s.xx; }) - pq);
+  const Lanes4 syy = minus_volume * (lanes([&](std::size_t, int k) { return ps[k]->s.yy; }) - pq);
+  const Lanes4 szz = minus_volume * (lanes([&](std::size_t, int k) { return ps[k]->s.zz; }) - pq);
+  const Lanes4 sxy = scaled(&Sym::xy), syz = scaled(&Sym::yz), szx = scaled(&Sym::zx);
+  Vec3L f[4];
+  for (int a = 0; a < 4; ++a) {
+    f[a].x = sxx * g[a].x + (sxy * g[a].y + szx * g[a].z);
+    f[a].y = sxy * g[a].x + (syy * g[a].y + syz * g[a].z);
+    f[a].z = szx * g[a].x + (syz * g[a].y + szz * g[a].z);
+  }
+  const Lanes4 internal = mass * e_spec, work_q = -q * dV;
+
+  for (int k = 0; k < count; ++k) {
+    const std::size_t e = group[k];
+    if (el.status[e] != ElemStatus::Live) continue;
+    el.len[e] = len[k];
+    if (el.len0[e] == 0) el.len0[e] = len[k];
+    el.q[e] = q[k];
+    el.dt[e] = dt[k];
+    PointState& st = el.state[e];
+    st.e = e_spec[k];
+    st.p = p_new[k];
+    for (int a = 0; a < 4; ++a) model.corner_force[e][a] = Vec3(f[a].x[k], f[a].y[k], f[a].z[k]);
+    energy[k] = internal[k];
+    q_work[k] = work_q[k];
+  }
+}
+
 }  // namespace
 
 void computeElementForces(Model& model, double dt_last) {
@@ -319,10 +490,8 @@ void computeElementForces(Model& model, double dt_last) {
         yielding.returns.clear();
         PassALanes lanes;
         for (std::size_t e0 = begin; e0 < end; e0 += 4) {
-          // the block's last group: its lanes past the end repeat the block's last element
+          const std::array<std::size_t, 4> group = groupOfFour(e0, end);
           const int count = static_cast<int>(std::min<std::size_t>(4, end - e0));
-          std::array<std::size_t, 4> group;
-          for (int k = 0; k < 4; ++k) group[k] = e0 + std::min(k, count - 1);
           passALanes(model, group, dt_last, lanes);
           for (int k = 0; k < count; ++k) {
             const std::size_t e = e0 + k;
@@ -373,13 +542,27 @@ void computeElementForces(Model& model, double dt_last) {
   // inputs are final now and in cache (read at the next step's start: triggers.hpp).
   const bool triggers = model.controls.conversion.mode != ConversionMode::None;
   if (triggers) el.trigger.resize(ne, Trigger::None);
-  const std::array<double, 2> c_sums =
-      orderedSums<2>(ne, [&](std::size_t e, std::array<double, 2>& sum) {
-        if (el.status[e] != ElemStatus::Live) return;
-        double q_work = 0;
-        sum[0] += volumetricResponseAndForces(model, e, anp, q_work);
-        sum[1] += q_work;
-        if (triggers) el.trigger[e] = elementTrigger(model, e);
+  // Groups of four elements of one material take the lanes (passCLanes), the others (where
+  // bodies meet) one element at a time.
+  const std::array<double, 2> c_sums = orderedBlockSums<2>(
+      ne, [&](std::size_t begin, std::size_t end, std::array<double, 2>& sum) {
+        for (std::size_t e0 = begin; e0 < end; e0 += 4) {
+          const std::array<std::size_t, 4> group = groupOfFour(e0, end);
+          const int count = static_cast<int>(std::min<std::size_t>(4, end - e0));
+          double energy[4], q_work[4] = {};
+          const bool one_material = el.material[group[0]] == el.material[group[1]] &&
+                                    el.material[group[0]] == el.material[group[2]] &&
+                                    el.material[group[0]] == el.material[group[3]];
+          if (one_material) passCLanes(model, group, count, anp, energy, q_work);
+          for (int k = 0; k < count; ++k) {
+            const std::size_t e = e0 + k;
+            if (el.status[e] != ElemStatus::Live) continue;
+            if (!one_material) energy[k] = volumetricResponseAndForces(model, e, anp, q_work[k]);
+            sum[0] += energy[k];
+            sum[1] += q_work[k];
+            if (triggers) el.trigger[e] = elementTrigger(model, e);
+          }
+        }
       });
   if (triggers) el.trigger_step = model.step;
   // Gather the corner forces per node in a fixed order: no atomics, same result for any

@@ -403,6 +403,79 @@ TEST_CASE("pass A four elements at a time: each element gets the scalar function
   CHECK(elastic > 10);
 }
 
+TEST_CASE("pass C four elements at a time: each element gets the one-at-a-time bits",
+          "[unit][fem]") {
+  // Reference: pass C takes a group of four elements of one material through one instruction
+  // stream (passCLanes), each lane with the operations of volumetricResponseAndForces, the
+  // function that groups spanning two materials still call one element at a time. The same
+  // model with its material given twice (identical copies), alternately to every other
+  // element, takes that function for every element; each element's length, bulk viscosity,
+  // stable step, energy, pressure and corner forces, and the energy sums, must be the same
+  // bits both ways. Mixed on purpose: linear and Mie-Grueneisen EOS, with and without ANP,
+  // elements compressed and expanded, in compression and in expansion (viscosity or not),
+  // failed ones (their tension cut), a converted one, a count not divisible by four.
+  Material steel = fesph::testing::mieGruneisenSteel();
+  steel.strength = StrengthModel::JohnsonCook;
+  steel.A = 800e6;
+  REQUIRE(finaliseMaterial(steel).empty());
+  for (const Material& mat : {fesph::testing::perfectlyPlasticMaterial(), steel}) {
+    for (const bool anp : {false, true}) {
+      Model lanes = boxModel(mat, Vec3(1.5e-3, 1.5e-3, 5e-4), 3, 3, 1);
+      lanes.controls.average_nodal_pressure = anp;
+      const std::size_t ne = lanes.elems.size();
+      REQUIRE(ne % 4 != 0);
+      std::mt19937 rng(9);
+      std::uniform_real_distribution<double> u(-1.0, 1.0);
+      for (std::size_t a = 0; a < lanes.nodes.size(); ++a) {
+        lanes.nodes.x[a] = lanes.nodes.x0[a] * (1 + 0.03 * u(rng));
+        lanes.nodes.v[a] = 300.0 * Vec3(u(rng), u(rng), u(rng));
+      }
+      for (std::size_t e = 0; e < ne; ++e) {
+        PointState& st = lanes.elems.state[e];
+        st.s = Sym{u(rng), u(rng), 0, u(rng), u(rng), u(rng)} * 2e8;
+        st.p = 1e9 * u(rng);
+        st.e = 3e4 * u(rng);
+        st.damage = (e % 7 == 3) ? 1.0 : 0.0;
+      }
+      lanes.elems.status[6] = ElemStatus::Converted;
+      Model single = lanes;
+      single.materials.push_back(single.materials[0]);
+      for (std::size_t e = 1; e < ne; e += 2) single.elems.material[e] = 1;
+      const double dt = 2e-9;
+      computeElementForces(lanes, dt);
+      computeElementForces(single, dt);
+
+      INFO((mat.eos == EosModel::Linear ? "linear EOS" : "Mie-Grueneisen") << ", ANP " << anp);
+      int compressed = 0, expanded = 0, viscous = 0, failed_cut = 0;
+      for (std::size_t e = 0; e < ne; ++e) {
+        if (lanes.elems.status[e] != ElemStatus::Live) continue;
+        INFO("element " << e);
+        const Elements &a = lanes.elems, &b = single.elems;
+        CHECK(a.len[e] == b.len[e]);
+        CHECK(a.len0[e] == b.len0[e]);
+        CHECK(a.q[e] == b.q[e]);
+        CHECK(a.dt[e] == b.dt[e]);
+        CHECK(a.state[e].e == b.state[e].e);
+        CHECK(a.state[e].p == b.state[e].p);
+        for (int k = 0; k < 4; ++k)
+          for (int i = 0; i < 3; ++i)
+            CHECK(lanes.corner_force[e][k][i] == single.corner_force[e][k][i]);
+        (a.rho[e] > mat.rho0 ? compressed : expanded) += 1;
+        viscous += a.q[e] > 0;
+        failed_cut += a.state[e].damage >= 1.0 && a.state[e].p == 0.0;
+      }
+      CHECK(lanes.energy.internal == single.energy.internal);
+      CHECK(lanes.energy.bulk_viscosity == single.energy.bulk_viscosity);
+      for (std::size_t n = 0; n < lanes.nodes.size(); ++n)
+        for (int i = 0; i < 3; ++i) CHECK(lanes.nodes.f[n][i] == single.nodes.f[n][i]);
+      CHECK(compressed > 5);
+      CHECK(expanded > 5);
+      CHECK(viscous > 5);
+      CHECK(failed_cut > 0);
+    }
+  }
+}
+
 TEST_CASE("the central difference stays second order when the step changes",
           "[unit][fem][conservation]") {
   // Reference: leapfrog with a varying step, v^{n+1/2} = v^{n-1/2} + (dt^{n-1/2} +
