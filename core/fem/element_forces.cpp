@@ -80,6 +80,28 @@ struct Vec3L {
   __builtin_memcpy(to, &v, sizeof v);
 }
 
+/// tetGeometry of four tets (corners p[0..3]): the determinant 6 V, the shape-function
+/// gradients, and the cross products of the edges at corner 0 (twice the faces' areas).
+struct TetLanes {
+  Lanes4 det;
+  Vec3L grad[4];
+  Vec3L c23, c31, c12;
+};
+[[gnu::always_inline]] inline TetLanes tetLanes(const Vec3L p[4]) {
+  const Vec3L e1 = p[1] - p[0], e2 = p[2] - p[0], e3 = p[3] - p[0];
+  TetLanes t;
+  t.c23 = cross(e2, e3), t.c31 = cross(e3, e1), t.c12 = cross(e1, e2);
+  t.det = dot(e1, t.c23);
+  const Lanes4 inv = 1.0 / t.det;
+  t.grad[1] = t.c23 * inv;
+  t.grad[2] = t.c31 * inv;
+  t.grad[3] = t.c12 * inv;
+  t.grad[0] = {-((t.grad[1].x + t.grad[2].x) + t.grad[3].x),
+               -((t.grad[1].y + t.grad[2].y) + t.grad[3].y),
+               -((t.grad[1].z + t.grad[2].z) + t.grad[3].z)};
+  return t;
+}
+
 /// The elements e0 .. e0+3 for the lanes; a block's last group, past `end`, repeats its last
 /// element in the lanes left over.
 std::array<std::size_t, 4> groupOfFour(std::size_t e0, std::size_t end) {
@@ -142,16 +164,9 @@ struct PassALanes {
   Vec3L m[4];
   for (int a = 0; a < 4; ++a) m[a] = x[a] - v[a] * half_dt;
   // tetGeometry at the midpoint, tetVolume at x^n
-  const Vec3L e1 = m[1] - m[0], e2 = m[2] - m[0], e3 = m[3] - m[0];
-  const Vec3L c23 = cross(e2, e3), c31 = cross(e3, e1), c12 = cross(e1, e2);
-  const Lanes4 det = dot(e1, c23);
-  const Lanes4 inv = 1.0 / det;
-  Vec3L g[4];
-  g[1] = c23 * inv;
-  g[2] = c31 * inv;
-  g[3] = c12 * inv;
-  g[0] = {-((g[1].x + g[2].x) + g[3].x), -((g[1].y + g[2].y) + g[3].y),
-          -((g[1].z + g[2].z) + g[3].z)};
+  const TetLanes at_mid = tetLanes(m);
+  const Lanes4 det = at_mid.det;
+  const Vec3L* g = at_mid.grad;
   const Lanes4 vol = dot(x[1] - x[0], cross(x[2] - x[0], x[3] - x[0])) / 6.0;
   store(out.vol_mid, det / 6.0);
   store(out.vol, vol);
@@ -347,17 +362,10 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
   // tetGeometry at x^n with the altitude
   Vec3L x[4];
   for (int a = 0; a < 4; ++a) x[a] = gather(px[a]);
-  const Vec3L e1 = x[1] - x[0], e2 = x[2] - x[0], e3 = x[3] - x[0];
-  const Vec3L c23 = cross(e2, e3), c31 = cross(e3, e1), c12 = cross(e1, e2);
-  const Lanes4 det = dot(e1, c23);
-  const Lanes4 volume = det / 6.0;
-  const Lanes4 inv = 1.0 / det;
-  Vec3L g[4];
-  g[1] = c23 * inv;
-  g[2] = c31 * inv;
-  g[3] = c12 * inv;
-  g[0] = {-((g[1].x + g[2].x) + g[3].x), -((g[1].y + g[2].y) + g[3].y),
-          -((g[1].z + g[2].z) + g[3].z)};
+  const TetLanes tet = tetLanes(x);
+  const Lanes4 volume = tet.det / 6.0;
+  const Vec3L* g = tet.grad;
+  const Vec3L &c23 = tet.c23, &c31 = tet.c31, &c12 = tet.c12;
   const auto max = [](Lanes4 a, Lanes4 b) { return a < b ? b : a; };  // std::max's choice
   const Vec3L c0 = cross(x[2] - x[1], x[3] - x[1]);
   const Lanes4 largest = max(max(dot(c0, c0), dot(c23, c23)), max(dot(c31, c31), dot(c12, c12)));
