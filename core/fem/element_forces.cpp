@@ -54,6 +54,13 @@ void finishDeviatoricWork(Model& model, const DeviatoricStep& y, double dt) {
 // has their bits (tests/unit/test_fem.cpp, "pass A four elements at a time"). The lanes'
 // helpers are always inlined: their vectors cross no call (CMakeLists.txt, -Wno-psabi).
 using Lanes4 = double __attribute__((vector_size(32)));
+// the lanes' passes cloned for AVX and the baseline, chosen at load time (x86-64 only: elsewhere
+// the compiler splits the vectors to the machine's)
+#if defined(__x86_64__)
+#define FESPH_AVX_CLONES [[gnu::target_clones("avx", "default")]]
+#else
+#define FESPH_AVX_CLONES
+#endif
 struct Vec3L {
   Lanes4 x, y, z;
 };
@@ -125,10 +132,8 @@ struct PassALanes {
 // whose element is not live computes on its nodes and is ignored): the rate of deformation
 // and spin at the midpoint configuration of the last interval, x^{n-1/2} = x^n - dt/2
 // v^{n-1/2}, the volume and density at x^n, the deviatoric trial stress and its equivalent.
-// Cloned for AVX (four lanes an instruction) and the baseline x86-64 (two), chosen at load.
-[[gnu::target_clones("avx", "default")]] void passALanes(const Model& model,
-                                                         const std::array<std::size_t, 4>& group,
-                                                         double dt, PassALanes& out) {
+FESPH_AVX_CLONES void passALanes(const Model& model, const std::array<std::size_t, 4>& group,
+                                 double dt, PassALanes& out) {
   const Elements& el = model.elems;
   const Nodes& nd = model.nodes;
   // Each lane built from registers (four loads, then the lanes joined): written lane by lane
@@ -328,10 +333,8 @@ double volumetricResponseAndForces(Model& model, std::size_t e, bool anp, double
 // (compressed or expanded, viscosity in compression only, a failed point's pressure cut) are
 // taken in every lane and selected. Writes what that function writes for each of the first
 // `count` lanes that is live; `energy` and `q_work` receive its return value and q_work.
-[[gnu::target_clones("avx", "default")]] void passCLanes(Model& model,
-                                                         const std::array<std::size_t, 4>& group,
-                                                         int count, bool anp, double energy[4],
-                                                         double q_work[4]) {
+FESPH_AVX_CLONES void passCLanes(Model& model, const std::array<std::size_t, 4>& group,
+                                 int count, bool anp, double energy[4], double q_work[4]) {
   Elements& el = model.elems;
   const Nodes& nd = model.nodes;
   const SolverControls& ctl = model.controls;
