@@ -332,12 +332,13 @@ TEST_CASE("pass A four elements at a time: each element gets the scalar function
   // materials (one hardening, rate-dependent, heating, with damage), elements that yield and
   // that do not, failed ones (damage 1), a converted one inside a group of four, and an
   // element count that is not a multiple of four (the last group repeats its last element).
-  Material copper = fesph::testing::perfectlyPlasticMaterial();
+  Material copper = fesph::testing::perfectlyPlasticMaterial();  // OFHC, Johnson & Cook 1983/85
   copper.A = 90e6, copper.B = 292e6, copper.n = 0.31, copper.C = 0.025, copper.m = 1.09;
   copper.T_melt = 1356, copper.cp = 383, copper.damage = true;
   copper.D1 = 0.54, copper.D2 = 4.89, copper.D3 = -3.03, copper.D4 = 0.014, copper.D5 = 1.12;
   REQUIRE(finaliseMaterial(copper).empty());
-  Model m = boxModel(fesph::testing::perfectlyPlasticMaterial(), Vec3(1.5e-3, 1.5e-3, 5e-4), 3, 3, 1);
+  Model m =
+      boxModel(fesph::testing::perfectlyPlasticMaterial(), Vec3(1.5e-3, 1.5e-3, 5e-4), 3, 3, 1);
   m.materials.push_back(copper);
   const std::size_t ne = m.elems.size();
   REQUIRE(ne % 4 != 0);
