@@ -6,6 +6,7 @@
 #include "core/conversion/convert.hpp"
 #include "core/conversion/triggers.hpp"
 #include "core/fem/tet4.hpp"
+#include "core/material/eos_lanes.hpp"
 #include "core/mesh/mesh.hpp"
 
 #include <cmath>
@@ -377,40 +378,10 @@ FESPH_AVX_CLONES void passCLanes(Model& model, const std::array<std::size_t, 4>&
   const Lanes4 len = 3.0 * abs_volume / (0.5 * root);
 
   // eosAtDensities at rho_vol (avg) and rho (own)
-  using Mask4 = decltype(Lanes4{} < Lanes4{});  // a lane all ones where true
-  struct EosLanes {
-    Lanes4 p_ref, e_ref = {}, c2;
-    Mask4 compressed = {};
-  };
-  const auto eosAt = [&](Lanes4 r) {
-    EosLanes out;
-    if (mat.eos == EosModel::Linear) {
-      out.p_ref = mat.K * (r / mat.rho0 - 1.0);
-      out.c2 = (mat.K + 4.0 * mat.G / 3.0) / r;
-      return out;
-    }
-    Lanes4 eta = 1.0 - mat.rho0 / r;
-    if (mat.s > 0.0) {
-      const double cap = (1.0 - 0.1) / mat.s;  // clampCompression's: std::min(eta, cap)
-      eta = cap < eta ? Lanes4{} + cap : eta;
-    }
-    const double rc2 = mat.rho0 * mat.c0 * mat.c0;
-    const Lanes4 den = 1.0 - mat.s * eta;
-    const Lanes4 p_hugoniot = rc2 * eta / (den * den);
-    const Lanes4 e_hugoniot = p_hugoniot * eta / (2.0 * mat.rho0);
-    const Lanes4 eta_t = 0.0 < eta ? eta : Lanes4{};
-    const Lanes4 den_t = 1.0 - mat.s * eta_t;
-    const Lanes4 Kt = rc2 * (1.0 + mat.s * eta_t) / (den_t * den_t * den_t);
-    out.c2 = (Kt + 4.0 * mat.G / 3.0) / r;
-    out.compressed = eta > 0.0;
-    out.p_ref = out.compressed ? p_hugoniot : rc2 * eta;
-    out.e_ref = out.compressed ? e_hugoniot : Lanes4{};
-    return out;
-  };
-  const EosLanes eos_avg = eosAt(rho_vol), eos_own = eosAt(rho);
+  const EosLanes<Lanes4> eos_avg = eosLanes(mat, rho_vol), eos_own = eosLanes(mat, rho);
   const Lanes4 damage = lanes([&](std::size_t, int k) { return ps[k]->damage; });
   // EosAtDensity::pressure: Gamma0 rho0 (e - e_ref) compressed, Gamma0 rho0 e expanded
-  const auto pressureAt = [&](const EosLanes& eos, Lanes4 e_spec) {
+  const auto pressureAt = [&](const EosLanes<Lanes4>& eos, Lanes4 e_spec) {
     Lanes4 p = eos.p_ref;
     if (mat.eos != EosModel::Linear)
       p = eos.p_ref + mat.gamma0 * mat.rho0 * (eos.compressed ? e_spec - eos.e_ref : e_spec);
@@ -425,7 +396,7 @@ FESPH_AVX_CLONES void passCLanes(Model& model, const std::array<std::size_t, 4>&
   const Lanes4 trD = lanes([&](std::size_t e, int) { return el.div_v[e]; });
   Lanes4 c_wave;
   {
-    const Lanes4 c2 = (1 - own) * eos_avg.c2 + own * eos_own.c2;
+    const Lanes4 c2 = (1 - own) * eos_avg.wave_speed_sq + own * eos_own.wave_speed_sq;
     for (int k = 0; k < 4; ++k) c_wave[k] = std::sqrt(c2[k]);
   }
   const Lanes4 q_compress = rho * len * (ctl.bulk_quadratic * len * trD * trD -
